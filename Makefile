@@ -1,0 +1,49 @@
+# Two entry points (see README):
+#   make demo   installs dependencies, builds (Release) and runs `plucker demo`
+#   make test   installs dependencies, builds with ASan+UBSan, runs the whole test suite,
+#               installs the package and builds the downstream example against it
+JOBS ?= $(shell nproc)
+RELEASE_DIR ?= build/release
+TEST_DIR ?= build/sanitize
+PREFIX_DIR ?= build/prefix
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+
+.PHONY: deps release demo test sanitize downstream format clean bench
+
+deps:
+	./scripts/install_deps.sh
+
+release: deps
+	cmake -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release -DPLUCKER_BUILD_TESTS=OFF
+	cmake --build $(RELEASE_DIR) -j $(JOBS)
+
+demo: release
+	$(RELEASE_DIR)/apps/plucker/plucker demo --out out/demo
+
+bench: release
+	$(RELEASE_DIR)/apps/plucker/plucker bench factors
+
+sanitize: deps
+	cmake -S . -B $(TEST_DIR) -DCMAKE_BUILD_TYPE=Debug -DPLUCKER_SANITIZE=ON \
+	  -DPLUCKER_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -g" \
+	  -DCMAKE_INSTALL_PREFIX=$(abspath $(PREFIX_DIR))
+	cmake --build $(TEST_DIR) -j $(JOBS)
+
+test: sanitize
+	cd $(TEST_DIR) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS)
+	$(MAKE) downstream
+
+downstream:
+	cmake --install $(TEST_DIR) --prefix $(abspath $(PREFIX_DIR))
+	cmake -S examples/downstream -B build/downstream -DCMAKE_PREFIX_PATH=$(abspath $(PREFIX_DIR)) \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
+	cmake --build build/downstream -j $(JOBS)
+	./build/downstream/downstream_example
+
+format:
+	find src apps benchmarks examples -name '*.h' -o -name '*.cc' | xargs clang-format -i
+
+clean:
+	rm -rf build out

@@ -1,0 +1,19 @@
+// Subcommands of the `plucker` program. Each Register* adds one subcommand (with --help) to the
+// app; its callback stores the process exit code in *exit_code. Errors reach the user as
+// "plucker <cmd>: error: <file>: <problem>" and a non-zero exit code, never a crash.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace plucker {
+namespace app {
+
+void RegisterDemo(CLI::App& app, int* exit_code);            // cmd_demo.cc
+void RegisterCheckJacobians(CLI::App& app, int* exit_code);  // cmd_check_jacobians.cc
+void RegisterBench(CLI::App& app, int* exit_code);           // cmd_bench.cc
+void RegisterSim(CLI::App& app, int* exit_code);             // cmd_sim.cc
+void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
+void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
+
+}  // namespace app
+}  // namespace plucker

@@ -1,0 +1,25 @@
+#include <exception>
+#include <iostream>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"plucker: geometric features (points, lines, planes) for SLAM"};
+  app.require_subcommand(1);
+  int exit_code = 0;
+  plucker::app::RegisterDemo(app, &exit_code);
+  plucker::app::RegisterCheckJacobians(app, &exit_code);
+  plucker::app::RegisterBench(app, &exit_code);
+  plucker::app::RegisterSim(app, &exit_code);
+  plucker::app::RegisterLidar(app, &exit_code);
+  plucker::app::RegisterEval(app, &exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "plucker: error: " << e.what() << "\n";
+    return 1;
+  }
+  return exit_code;
+}

@@ -1,0 +1,36 @@
+# plucker_add_library(NAME <layer> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+#   Creates target plucker_<layer> (alias plucker::<layer>), installed and exported.
+#   Headers are included as "plucker/<layer>/x.h" from src/.
+function(plucker_add_library)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(target plucker_${ARG_NAME})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(plucker::${ARG_NAME} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME} POSITION_INDEPENDENT_CODE ON)
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_options(${target} PRIVATE -Wall -Wextra)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  install(TARGETS ${target} EXPORT pluckerTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  file(GLOB headers "${CMAKE_CURRENT_SOURCE_DIR}/*.h")
+  list(FILTER headers EXCLUDE REGEX "_test_utils\\.h$")
+  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/plucker/${ARG_NAME})
+endfunction()
+
+# plucker_add_test(NAME <name> SOURCES ... DEPS ...)
+#   A GoogleTest executable registered with CTest. PLUCKER_SHARED_DATA_DIR is passed as a define.
+function(plucker_add_test)
+  if(NOT PLUCKER_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_compile_options(${ARG_NAME} PRIVATE -Wall -Wextra)
+  target_compile_definitions(${ARG_NAME} PRIVATE
+    PLUCKER_SHARED_DATA_DIR="${PLUCKER_SHARED_DATA_DIR}")
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
+endfunction()

@@ -1,0 +1,81 @@
+// Shared machinery for proving analytic Jacobians: the automatic-differentiation twin (ceres::Jet),
+// central differences, the error measure, and the registry of named checks that both the unit
+// tests and `plucker check-jacobians` run.
+//
+// Error measure (docs/math.md): err(A, B) = ||A - B||_F / max(||B||_F, 1), i.e. relative for
+// Jacobians of norm above one, absolute below. Thresholds: 1e-9 against autodiff, 1e-6 against
+// central differences.
+#pragma once
+
+#include <ceres/jet.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace plucker {
+namespace verify {
+
+double JacobianError(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& reference);
+
+// Jacobian of f at x by forward-mode autodiff. F is a generic functor
+//   template <typename T> Eigen::Matrix<T, kOut, 1> operator()(const Eigen::Matrix<T, kIn, 1>&)
+template <int kIn, int kOut, typename F>
+Eigen::Matrix<double, kOut, kIn> AutoDiffJacobian(const F& f, const Eigen::Matrix<double, kIn, 1>& x,
+                                                 Eigen::Matrix<double, kOut, 1>* value = nullptr) {
+  using Jet = ceres::Jet<double, kIn>;
+  Eigen::Matrix<Jet, kIn, 1> xj;
+  for (int i = 0; i < kIn; ++i) xj(i) = Jet(x(i), i);
+  const Eigen::Matrix<Jet, kOut, 1> yj = f(xj);
+  Eigen::Matrix<double, kOut, kIn> J;
+  for (int r = 0; r < kOut; ++r) {
+    J.row(r) = yj(r).v.transpose();
+    if (value) (*value)(r) = yj(r).a;
+  }
+  return J;
+}
+
+// Central differences of f at x with step h (f maps R^n -> R^m, dynamic sizes).
+Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                const Eigen::VectorXd& x, double h = 1e-6);
+
+// Statistics of one named check over many samples.
+struct JacobianCheckStats {
+  std::string name;
+  int samples = 0;
+  int skipped = 0;              // samples rejected as invalid configurations (e.g. guarded cases)
+  double worst_autodiff = 0.0;  // worst err(analytic, autodiff)
+  double worst_numeric = 0.0;   // worst err(analytic, central differences)
+  double autodiff_tolerance = 1e-9;
+  double numeric_tolerance = 1e-6;
+  int failures = 0;             // samples over either tolerance
+  std::string first_failure;    // description of the first failing sample
+  bool passed() const { return failures == 0 && samples > 0; }
+
+  // Records one sample. `what` describes the configuration for the failure message.
+  void Add(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& autodiff,
+           const Eigen::MatrixXd& numeric, const std::string& what = "");
+};
+
+struct JacobianCheckOptions {
+  int samples = 1000;
+  std::uint64_t seed = 42;
+};
+
+struct NamedJacobianCheck {
+  std::string name;
+  std::function<JacobianCheckStats(const JacobianCheckOptions&)> run;
+};
+inline void PrintTo(const NamedJacobianCheck& c, std::ostream* os) { *os << c.name; }
+
+// Each layer contributes its checks (defined next to the code they verify, in verify/).
+std::vector<NamedJacobianCheck> GeometryJacobianChecks();
+std::vector<NamedJacobianCheck> FactorJacobianChecks();
+std::vector<NamedJacobianCheck> AllJacobianChecks();
+
+}  // namespace verify
+}  // namespace plucker

@@ -1,0 +1,26 @@
+#include "plucker/verify/checks.h"
+
+namespace plucker {
+namespace verify {
+
+namespace {
+void Append(std::vector<NamedJacobianCheck>* all, std::vector<NamedJacobianCheck> more) {
+  for (auto& c : more) all->push_back(std::move(c));
+}
+}  // namespace
+
+std::vector<NamedJacobianCheck> GeometryJacobianChecks() {
+  std::vector<NamedJacobianCheck> all = SE3JacobianChecks();
+  Append(&all, LineJacobianChecks());
+  Append(&all, ProjectionJacobianChecks());
+  return all;
+}
+
+std::vector<NamedJacobianCheck> FactorJacobianChecks() {
+  std::vector<NamedJacobianCheck> all = CameraFactorJacobianChecks();
+  Append(&all, LidarFactorJacobianChecks());
+  return all;
+}
+
+}  // namespace verify
+}  // namespace plucker
