@@ -34,3 +34,28 @@ function(plucker_add_test)
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
   gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
 endfunction()
+
+# plucker_add_layer(NAME <layer> [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [TEST_DEPS ...])
+#   The library is every *.cc of the folder except *_test.cc, *_fuzz.cc and *_benchmark.cc;
+#   every *_test.cc becomes its own test executable <layer>_<file> linked with the layer,
+#   plucker::verify and TEST_DEPS. New files are picked up at the next build (CONFIGURE_DEPENDS).
+function(plucker_add_layer)
+  cmake_parse_arguments(ARG "" "NAME" "PUBLIC_DEPS;PRIVATE_DEPS;TEST_DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*.cc")
+  list(FILTER sources EXCLUDE REGEX "_(test|fuzz|benchmark)\\.cc$")
+  if(NOT sources)
+    # A layer with no code yet: an interface target so that dependants still configure.
+    add_library(plucker_${ARG_NAME} INTERFACE)
+    add_library(plucker::${ARG_NAME} ALIAS plucker_${ARG_NAME})
+    target_link_libraries(plucker_${ARG_NAME} INTERFACE ${ARG_PUBLIC_DEPS})
+    return()
+  endif()
+  plucker_add_library(NAME ${ARG_NAME} SOURCES ${sources}
+    PUBLIC_DEPS ${ARG_PUBLIC_DEPS} PRIVATE_DEPS ${ARG_PRIVATE_DEPS})
+  file(GLOB tests CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc")
+  foreach(test_source ${tests})
+    get_filename_component(stem ${test_source} NAME_WE)
+    plucker_add_test(NAME ${ARG_NAME}_${stem} SOURCES ${test_source}
+      DEPS plucker::${ARG_NAME} plucker::verify ${ARG_TEST_DEPS})
+  endforeach()
+endfunction()

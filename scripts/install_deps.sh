@@ -5,7 +5,6 @@ set -euo pipefail
 packages=(
   build-essential cmake ccache pkg-config
   libeigen3-dev libceres-dev
-  libopencv-dev libopencv-contrib-dev
   libyaml-cpp-dev libcli11-dev libnanoflann-dev robin-map-dev nlohmann-json3-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
