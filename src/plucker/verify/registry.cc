@@ -17,7 +17,8 @@ std::vector<NamedJacobianCheck> GeometryJacobianChecks() {
 }
 
 std::vector<NamedJacobianCheck> FactorJacobianChecks() {
-  std::vector<NamedJacobianCheck> all = CameraFactorJacobianChecks();
+  std::vector<NamedJacobianCheck> all = LineFactorJacobianChecks();
+  Append(&all, PointFactorJacobianChecks());
   Append(&all, LidarFactorJacobianChecks());
   return all;
 }

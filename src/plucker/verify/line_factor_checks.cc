@@ -4,7 +4,7 @@ namespace plucker {
 namespace verify {
 
 // Placeholder until the module lands; the owner replaces this file.
-std::vector<NamedJacobianCheck> CameraFactorJacobianChecks() { return {}; }
+std::vector<NamedJacobianCheck> LineFactorJacobianChecks() { return {}; }
 
 }  // namespace verify
 }  // namespace plucker
