@@ -48,6 +48,8 @@ function(plucker_add_layer)
     add_library(plucker_${ARG_NAME} INTERFACE)
     add_library(plucker::${ARG_NAME} ALIAS plucker_${ARG_NAME})
     target_link_libraries(plucker_${ARG_NAME} INTERFACE ${ARG_PUBLIC_DEPS})
+    set_target_properties(plucker_${ARG_NAME} PROPERTIES EXPORT_NAME ${ARG_NAME})
+    install(TARGETS plucker_${ARG_NAME} EXPORT pluckerTargets)
     return()
   endif()
   plucker_add_library(NAME ${ARG_NAME} SOURCES ${sources}
