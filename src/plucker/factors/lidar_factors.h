@@ -1,0 +1,168 @@
+// LOAM-style LiDAR residuals on a scan pose T_w_s (7-value pose block [qx qy qz qw tx ty tz],
+// PoseManifold, tangent (dtheta, dt) with R <- R Exp(dtheta), t <- t + dt).
+//
+// A scan point p_s is mapped to the world by p_w = R p_s + t. The residuals (docs/math/
+// lidar-and-point-factors.md derives each Jacobian):
+//   PointToPlaneFactor       r = m_w . (p_w - q_w) / sigma                      (1, signed distance)
+//   PointToEdgeFactor        r = Y / sigma, Y = (p_w - b) x (p_w - a) / |a - b| (3, |Y| = distance)
+//                              = u x (p_w - a),  u = (a - b)/|a - b|
+//   PointToEdge2Factor       r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma        (2, |r| = distance)
+//                              e1, e2 orthonormal, both orthogonal to u (fixed at construction)
+//   PointToEdgeScalarFactor  r = |Y| / sigma  (classic LOAM; kink at zero distance, comparison only)
+//
+// Jacobians are written w.r.t. the AMBIENT 7 parameters: J_ambient = J_tangent * MinusJacobian(x)
+// (the exact derivative of the same residual with the quaternion normalised). Every Create() has a
+// CreateAutoDiff() twin (ceres::AutoDiffCostFunction over the templated functors below, which
+// normalise the quaternion) used as the test reference and the benchmark baseline.
+//
+// Construction errors: Create/CreateAutoDiff throw std::invalid_argument for non-finite inputs,
+// a == b (|a - b| <= 1e-12 (1 + max(|a|, |b|))), a normal whose norm is not within 1e-6 of one
+// (it is then re-normalised exactly), and sigma <= 0 or non-finite.
+// Evaluate returns false for non-finite parameters (including a zero quaternion).
+//
+// Scalar edge at zero distance: |Y| is not differentiable at Y = 0. Evaluate returns residual 0
+// and a ZERO Jacobian there (0 is in the subdifferential of |.| at 0, so it is a valid subgradient),
+// never NaN. Such a residual gives Gauss-Newton no information at the very configuration every
+// converged correspondence approaches, which is why the smooth vector forms are preferred.
+#pragma once
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace plucker {
+
+// Templated residual functors (the autodiff twins). Each normalises the quaternion.
+namespace lidar_residuals {
+
+template <typename T>
+Eigen::Matrix<T, 3, 1> ScanPointToWorld(const T* pose, const Eigen::Vector3d& p_s) {
+  Eigen::Quaternion<T> q(pose[3], pose[0], pose[1], pose[2]);
+  q.normalize();
+  return q * p_s.cast<T>() + Eigen::Matrix<T, 3, 1>(pose[4], pose[5], pose[6]);
+}
+
+struct PointToPlane {
+  Eigen::Vector3d p_s, m_w, q_w;
+  double inv_sigma;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    const Eigen::Matrix<T, 3, 1> p_w = ScanPointToWorld(pose, p_s);
+    r[0] = m_w.cast<T>().dot(p_w - q_w.cast<T>()) * T(inv_sigma);
+    return true;
+  }
+};
+
+struct PointToEdge {
+  Eigen::Vector3d p_s, a_w, u_w;  // u_w = (a - b)/|a - b|
+  double inv_sigma;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    const Eigen::Matrix<T, 3, 1> p_w = ScanPointToWorld(pose, p_s);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>>(r) = u_w.cast<T>().cross(p_w - a_w.cast<T>()) * T(inv_sigma);
+    return true;
+  }
+};
+
+struct PointToEdge2 {
+  Eigen::Vector3d p_s, a_w, e1_w, e2_w;
+  double inv_sigma;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    const Eigen::Matrix<T, 3, 1> v = ScanPointToWorld(pose, p_s) - a_w.cast<T>();
+    r[0] = e1_w.cast<T>().dot(v) * T(inv_sigma);
+    r[1] = e2_w.cast<T>().dot(v) * T(inv_sigma);
+    return true;
+  }
+};
+
+struct PointToEdgeScalar {
+  Eigen::Vector3d p_s, a_w, u_w;
+  double inv_sigma;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    using std::sqrt;
+    const Eigen::Matrix<T, 3, 1> p_w = ScanPointToWorld(pose, p_s);
+    const Eigen::Matrix<T, 3, 1> Y = u_w.cast<T>().cross(p_w - a_w.cast<T>());
+    const T sq = Y.squaredNorm();
+    // sqrt'(0) is infinite: return 0 with a zero derivative, as the analytic version does.
+    r[0] = sq > T(0) ? T(sqrt(sq)) * T(inv_sigma) : T(0);
+    return true;
+  }
+};
+
+}  // namespace lidar_residuals
+
+// r = m_w . (p_w - q_w) / sigma; the signed point-to-plane distance in units of sigma.
+class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7> {
+ public:
+  // m_w: unit normal (|m| within 1e-6 of 1), q_w: any point on the plane, sigma > 0 [m].
+  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
+                                     const Eigen::Vector3d& q_w, double sigma = 1.0);
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
+                                             const Eigen::Vector3d& m_w,
+                                             const Eigen::Vector3d& q_w, double sigma = 1.0);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  explicit PointToPlaneFactor(const lidar_residuals::PointToPlane& f);
+  Eigen::Vector3d p_s_, m_scaled_;  // m_scaled = m / sigma
+  double offset_;                   // m . q / sigma
+};
+
+// r = Y / sigma with Y = (p_w - b) x (p_w - a)/|a - b| = u x (p_w - a); |r| = distance / sigma.
+// Smooth everywhere (linear in p_w), also on the line itself.
+class PointToEdgeFactor : public ceres::SizedCostFunction<3, 7> {
+ public:
+  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
+                                     const Eigen::Vector3d& b_w, double sigma = 1.0);
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
+                                             const Eigen::Vector3d& a_w,
+                                             const Eigen::Vector3d& b_w, double sigma = 1.0);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  explicit PointToEdgeFactor(const lidar_residuals::PointToEdge& f);
+  Eigen::Vector3d p_s_, u_scaled_, a_w_;  // u_scaled = u / sigma
+};
+
+// r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma: the minimal (2-dof) smooth edge residual.
+class PointToEdge2Factor : public ceres::SizedCostFunction<2, 7> {
+ public:
+  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
+                                     const Eigen::Vector3d& b_w, double sigma = 1.0);
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
+                                             const Eigen::Vector3d& a_w,
+                                             const Eigen::Vector3d& b_w, double sigma = 1.0);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  explicit PointToEdge2Factor(const lidar_residuals::PointToEdge2& f);
+  Eigen::Vector3d p_s_;
+  Eigen::Matrix<double, 2, 3> E_scaled_;  // rows e1, e2 divided by sigma
+  Eigen::Vector2d offset_;                // E_scaled a
+};
+
+// r = |Y| / sigma (classic LOAM). Zero distance: residual 0, zero Jacobian (see top of file).
+class PointToEdgeScalarFactor : public ceres::SizedCostFunction<1, 7> {
+ public:
+  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
+                                     const Eigen::Vector3d& b_w, double sigma = 1.0);
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
+                                             const Eigen::Vector3d& a_w,
+                                             const Eigen::Vector3d& b_w, double sigma = 1.0);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  explicit PointToEdgeScalarFactor(const lidar_residuals::PointToEdge& f);
+  Eigen::Vector3d p_s_, u_w_, a_w_;
+  double inv_sigma_;
+};
+
+}  // namespace plucker
