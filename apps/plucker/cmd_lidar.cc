@@ -1,10 +1,401 @@
+// `plucker lidar`: LOAM-style LiDAR odometry on a recorded sequence (KITTI layout, simulator
+// output or a folder of PCD files). docs/lidar-odometry.md describes the options and the results.
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
 #include "commands.h"
+#include "plucker/io/lidar_sequence.h"
+#include "plucker/io/ply.h"
+#include "plucker/io/trajectory_io.h"
+#include "plucker/lidar/odometry.h"
+#include "plucker/lidar/sensor_model.h"
+#include "plucker/lidar/voxel_map.h"
 
 namespace plucker {
 namespace app {
+namespace {
 
-// Placeholder until the module lands; the owner replaces this file.
-void RegisterLidar(CLI::App& app, int* exit_code) { (void)app; (void)exit_code; }
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct LidarArgs {
+  std::string data, sequence, out, config, sensor = "auto", map, tum, json, frame = "cam0";
+  bool quiet = false;
+  int threads = 1;
+  double map_voxel = 0.2;
+};
+
+// ---- YAML configuration -------------------------------------------------------------------
+// Every key of config/lidar_default.yaml; unknown keys and wrong types are errors naming the file
+// and the key.
+class ConfigBinder {
+ public:
+  using Setter = std::function<void(const YAML::Node&)>;
+  void Number(const std::string& key, double* v) {
+    setters_[key] = [v](const YAML::Node& n) { *v = n.as<double>(); };
+    kinds_[key] = "a number";
+  }
+  void Integer(const std::string& key, int* v) {
+    setters_[key] = [v](const YAML::Node& n) { *v = n.as<int>(); };
+    kinds_[key] = "an integer";
+  }
+  void Bool(const std::string& key, bool* v) {
+    setters_[key] = [v](const YAML::Node& n) { *v = n.as<bool>(); };
+    kinds_[key] = "true or false";
+  }
+  void Text(const std::string& key, const std::string& kind, Setter s) {
+    setters_[key] = std::move(s);
+    kinds_[key] = kind;
+  }
+  void Apply(const YAML::Node& node, const std::string& prefix, const std::string& file) const {
+    if (!node.IsMap()) {
+      throw std::runtime_error(file + ": " + (prefix.empty() ? "top level" : "key '" + prefix + "'") +
+                               " must be a mapping");
+    }
+    for (const auto& kv : node) {
+      const std::string key = (prefix.empty() ? "" : prefix + ".") + kv.first.as<std::string>();
+      if (kv.second.IsMap()) {
+        Apply(kv.second, key, file);
+        continue;
+      }
+      const auto it = setters_.find(key);
+      if (it == setters_.end()) throw std::runtime_error(file + ": unknown key '" + key + "'");
+      if (!kv.second.IsScalar()) {
+        throw std::runtime_error(file + ": key '" + key + "': expected " + kinds_.at(key));
+      }
+      try {
+        it->second(kv.second);
+      } catch (const YAML::Exception&) {
+        throw std::runtime_error(file + ": key '" + key + "': expected " + kinds_.at(key) +
+                                 ", got '" + kv.second.Scalar() + "'");
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(file + ": key '" + key + "': " + e.what());
+      }
+    }
+  }
+
+ private:
+  std::map<std::string, Setter> setters_;
+  std::map<std::string, std::string> kinds_;
+};
+
+void LoadConfig(const std::string& path, lidar::LidarOdometryOptions* o, double* map_voxel) {
+  ConfigBinder b;
+  lidar::FeatureOptions& f = o->features;
+  b.Number("features.min_range", &f.min_range);
+  b.Number("features.max_range", &f.max_range);
+  b.Integer("features.curvature_half_window", &f.curvature_half_window);
+  b.Integer("features.sectors", &f.sectors);
+  b.Integer("features.max_sharp_per_sector", &f.max_sharp_per_sector);
+  b.Integer("features.max_edges_per_sector", &f.max_edges_per_sector);
+  b.Integer("features.max_flat_per_sector", &f.max_flat_per_sector);
+  b.Number("features.edge_threshold", &f.edge_threshold);
+  b.Number("features.plane_threshold", &f.plane_threshold);
+  b.Number("features.suppression_distance", &f.suppression_distance);
+  b.Number("features.occlusion_depth_jump", &f.occlusion_depth_jump);
+  b.Number("features.occlusion_max_gap", &f.occlusion_max_gap);
+  b.Number("features.parallel_beam_ratio", &f.parallel_beam_ratio);
+  b.Number("features.edge_voxel_size", &f.edge_voxel_size);
+  b.Number("features.plane_voxel_size", &f.plane_voxel_size);
+  b.Number("features.scan_period", &f.scan_period);
+  for (auto [name, m] : {std::make_pair("edge_map", &o->edge_map),
+                         std::make_pair("plane_map", &o->plane_map)}) {
+    const std::string p = name;
+    b.Number(p + ".voxel_size", &m->voxel_size);
+    b.Integer(p + ".max_points_per_voxel", &m->max_points_per_voxel);
+    b.Number(p + ".min_point_distance", &m->min_point_distance);
+    b.Number(p + ".max_distance", &m->max_distance);
+  }
+  b.Integer("registration.num_neighbours", &o->num_neighbours);
+  b.Number("registration.max_correspondence_distance", &o->max_correspondence_distance);
+  b.Number("registration.edge_eigen_ratio", &o->edge_eigen_ratio);
+  b.Number("registration.plane_max_residual", &o->plane_max_residual);
+  b.Number("registration.edge_sigma", &o->edge_sigma);
+  b.Number("registration.plane_sigma", &o->plane_sigma);
+  b.Text("registration.loss", "huber, cauchy or none",
+         [o](const YAML::Node& n) { o->loss = lidar::ParseRobustLoss(n.as<std::string>()); });
+  b.Number("registration.loss_scale", &o->loss_scale);
+  b.Bool("registration.use_edges", &o->use_edges);
+  b.Integer("registration.association_rounds", &o->association_rounds);
+  b.Integer("registration.max_iterations", &o->max_iterations);
+  b.Integer("registration.max_edge_points", &o->max_edge_points);
+  b.Integer("registration.max_plane_points", &o->max_plane_points);
+  b.Integer("registration.min_correspondences", &o->min_correspondences);
+  b.Bool("registration.constant_velocity", &o->constant_velocity);
+  b.Number("degeneracy.threshold", &o->degeneracy_threshold);
+  b.Bool("degeneracy.handle", &o->handle_degeneracy);
+  b.Text("deskew", "auto, on or off",
+         [o](const YAML::Node& n) { o->deskew = lidar::ParseDeskewMode(n.as<std::string>()); });
+  b.Text("ring_source", "auto, scan_order, elevation or auto_elevation", [o](const YAML::Node& n) {
+    o->ring_source = lidar::ParseRingSource(n.as<std::string>());
+  });
+  b.Integer("map_cleanup_every", &o->map_cleanup_every);
+  b.Number("output.map_voxel_size", map_voxel);
+
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw std::runtime_error(path + ": cannot open");
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(path + ": invalid YAML: " + e.msg);
+  }
+  if (root.IsNull()) return;  // an empty file keeps the defaults
+  b.Apply(root, "", path);
+}
+
+// ---- Helpers ------------------------------------------------------------------------------
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double pos = q * (v.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - lo) * (v[hi] - v[lo]);
+}
+
+std::string Canonical(const std::string& path) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
+  return ec ? path : p.string();
+}
+
+// Refuses an output path that is an input (frame, calib, times, config, ground truth) or
+// another output.
+void CheckOutputs(const LidarArgs& a, const io::LidarSequence& seq) {
+  std::set<std::string> inputs;
+  for (std::size_t i = 0; i < seq.size(); ++i) inputs.insert(Canonical(seq.frame(i).path));
+  for (const char* name : {"calib.txt", "times.txt"})
+    inputs.insert(Canonical((fs::path(seq.root()) / name).string()));
+  if (!a.config.empty()) inputs.insert(Canonical(a.config));
+  std::error_code ec;
+  for (const fs::path& gt_dir : {fs::path(a.data) / "poses", fs::path(seq.root()) / "poses"}) {
+    if (!fs::is_directory(gt_dir, ec)) continue;
+    for (const auto& e : fs::directory_iterator(gt_dir, ec)) inputs.insert(Canonical(e.path()));
+  }
+  if (fs::exists(fs::path(seq.root()) / "poses.txt", ec))
+    inputs.insert(Canonical((fs::path(seq.root()) / "poses.txt").string()));
+  std::set<std::string> outputs;
+  for (const std::string* out : {&a.out, &a.map, &a.tum, &a.json}) {
+    if (out->empty()) continue;
+    const std::string c = Canonical(*out);
+    if (inputs.count(c))
+      throw std::runtime_error(*out + ": refusing to overwrite an input file");
+    if (!outputs.insert(c).second)
+      throw std::runtime_error(*out + ": the same file is given for two outputs");
+  }
+}
+
+nlohmann::json Vec(const Vector6d& v) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < 6; ++i) j.push_back(v(i));
+  return j;
+}
+
+int RunLidar(const LidarArgs& a) {
+  lidar::LidarOdometryOptions options;
+  double map_voxel = a.map_voxel;
+  if (!a.config.empty()) LoadConfig(a.config, &options, &map_voxel);
+  options.num_threads = std::max(1, a.threads);
+  if (a.sensor != "auto") lidar::FromName(a.sensor);  // validates the name
+  options.sensor = a.sensor;
+  if (a.frame != "cam0" && a.frame != "lidar")
+    throw std::runtime_error("--frame must be cam0 or lidar, got '" + a.frame + "'");
+
+  const io::LidarSequence seq = io::LidarSequence::Open(a.data, a.sequence);
+  CheckOutputs(a, seq);
+  if (seq.format() == io::LidarSequence::Format::kPcd &&
+      options.ring_source == lidar::RingSource::kAuto)
+    options.ring_source = lidar::RingSource::kAutoElevation;
+  bool to_cam0 = a.frame == "cam0" && seq.T_cam0_velo().has_value();
+  if (!a.quiet) std::cerr << "plucker lidar: " << seq.description() << "\n";
+  if (a.frame == "cam0" && !to_cam0) {
+    std::cerr << "plucker lidar: "
+              << (seq.has_calib() ? (fs::path(seq.root()) / "calib.txt").string() +
+                                        " has no Tr (velodyne to cam0) entry"
+                                  : std::string("no calib.txt"))
+              << "; poses are written in the LiDAR frame\n";
+  }
+
+  lidar::LidarOdometry odometry(options);
+  lidar::VoxelMapOptions map_options{map_voxel, 1, 0.0, 1e12};
+  lidar::VoxelMap map(map_options);
+
+  nlohmann::json frames = nlohmann::json::array();
+  nlohmann::json skipped = nlohmann::json::array();
+  std::vector<double> total_ms, times;
+  std::size_t degenerate_frames = 0;
+  const auto run_start = Clock::now();
+  auto last_progress = run_start;
+  const std::size_t n = seq.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto t0 = Clock::now();
+    LidarScan scan;
+    std::string error;
+    const bool read_ok = seq.Read(i, &scan, &error);
+    const double read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    double stamp = i < seq.times().size() ? seq.times()[i] : 0.1 * static_cast<double>(i);
+    if (read_ok && i >= seq.times().size() && scan.timestamp != 0.0) stamp = scan.timestamp;
+    times.push_back(stamp);
+
+    lidar::FrameResult r;
+    std::vector<Eigen::Vector3d> scan_points;
+    if (!read_ok) {
+      r = odometry.SkipFrame(error);
+    } else {
+      if (!a.map.empty()) scan_points = scan.points;
+      r = odometry.ProcessScan(std::move(scan));
+    }
+    if (!r.ok) skipped.push_back({{"frame", i}, {"reason", r.error}});
+    if (r.ok && !a.map.empty()) {
+      const Eigen::Matrix3d R = r.T_w_s.RotationMatrix();
+      const Eigen::Vector3d t = r.T_w_s.translation();
+      std::vector<Eigen::Vector3d> world;
+      world.reserve(scan_points.size());
+      const double min_sq = options.features.min_range * options.features.min_range;
+      const double max_sq = options.features.max_range * options.features.max_range;
+      for (const auto& p : scan_points) {
+        const double sq = p.squaredNorm();
+        if (sq >= min_sq && sq <= max_sq) world.push_back(R * p + t);
+      }
+      map.AddPoints(world);
+    }
+    const double frame_ms =
+        read_ms + (read_ok ? r.timing.total
+                           : 0.0);
+    if (read_ok) total_ms.push_back(frame_ms);
+    if (r.degeneracy.degenerate && r.ok) ++degenerate_frames;
+    if (!a.json.empty()) {
+      nlohmann::json f = {
+          {"frame", i},
+          {"ok", r.ok},
+          {"ms",
+           {{"read", read_ms},
+            {"rings", r.timing.rings},
+            {"features", r.timing.features},
+            {"correspondences", r.timing.correspondences},
+            {"solve", r.timing.solve},
+            {"map_update", r.timing.map_update},
+            {"total", frame_ms}}},
+          {"edge_points", r.edge_points},
+          {"plane_points", r.plane_points},
+          {"edge_correspondences", r.edge_correspondences},
+          {"plane_correspondences", r.plane_correspondences},
+          {"iterations", r.solver_iterations},
+          {"degenerate", r.degeneracy.degenerate},
+          {"degenerate_directions", r.degeneracy.num_degenerate_directions},
+          {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
+          {"deskewed", r.deskewed},
+          {"map_points", r.map_points}};
+      if (!r.ok) f["error"] = r.error;
+      frames.push_back(std::move(f));
+    }
+    const auto now = Clock::now();
+    if (!a.quiet && (std::chrono::duration<double>(now - last_progress).count() > 0.5 || i + 1 == n)) {
+      last_progress = now;
+      const double elapsed = std::chrono::duration<double>(now - run_start).count();
+      const double fps = (i + 1) / std::max(elapsed, 1e-9);
+      std::cerr << "\rframe " << (i + 1) << "/" << n << "  " << std::fixed << std::setprecision(1)
+                << fps << " fps  ETA " << (n - i - 1) / fps << " s   " << std::flush;
+    }
+  }
+  if (!a.quiet) std::cerr << "\n";
+
+  std::vector<SE3d> poses = odometry.poses();
+  if (to_cam0) {
+    const SE3d& Tr = *seq.T_cam0_velo();
+    const SE3d Tr_inv = Tr.Inverse();
+    for (SE3d& T : poses) T = Tr * T * Tr_inv;
+  }
+  io::WriteKittiPoses(a.out, poses);
+  if (!a.tum.empty()) io::WriteTumTrajectory(a.tum, times, poses);
+  if (!a.map.empty()) {
+    std::vector<Eigen::Vector3d> points = map.Points();
+    if (to_cam0) {
+      const SE3d& Tr = *seq.T_cam0_velo();
+      for (auto& p : points) p = Tr * p;
+    }
+    io::WritePly(a.map, points);
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - run_start).count();
+  const double median = Percentile(total_ms, 0.5), p95 = Percentile(total_ms, 0.95);
+  if (!a.json.empty()) {
+    nlohmann::json summary = {{"frames", n},
+                              {"skipped", skipped.size()},
+                              {"degenerate_frames", degenerate_frames},
+                              {"median_ms", median},
+                              {"p95_ms", p95},
+                              {"mean_ms", total_ms.empty() ? 0.0
+                                                           : std::accumulate(total_ms.begin(),
+                                                                             total_ms.end(), 0.0) /
+                                                                 total_ms.size()},
+                              {"fps", n / std::max(wall, 1e-9)},
+                              {"wall_s", wall},
+                              {"threads", options.num_threads},
+                              {"output_frame", to_cam0 ? "cam0" : "lidar"}};
+    nlohmann::json doc = {{"summary", summary}, {"skipped", skipped}, {"frames", frames}};
+    std::ofstream out(a.json);
+    if (!out) throw std::runtime_error(a.json + ": cannot open for writing");
+    out << doc.dump(1) << "\n";
+    if (!out) throw std::runtime_error(a.json + ": write failed");
+  }
+  if (!a.quiet) {
+    std::cerr << "plucker lidar: " << n << " frames (" << skipped.size() << " skipped, "
+              << degenerate_frames << " degenerate), median " << std::setprecision(1) << median
+              << " ms, p95 " << p95 << " ms per frame; poses (" << (to_cam0 ? "cam0" : "lidar")
+              << " frame) -> " << a.out << "\n";
+    for (const auto& s : skipped)
+      std::cerr << "  skipped frame " << s["frame"].get<std::size_t>() << ": "
+                << s["reason"].get<std::string>() << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void RegisterLidar(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<LidarArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "lidar", "LOAM-style LiDAR odometry (edge/plane features, scan-to-map, analytic factors)");
+  cmd->add_option("--data", args->data, "Sequence folder (KITTI root, sequence folder, sim, PCD)")
+      ->required();
+  cmd->add_option("--sequence", args->sequence, "KITTI sequence under DATA/sequences (e.g. 00)");
+  cmd->add_option("--out", args->out, "Output poses, KITTI format (cam0 frame when Tr is known)")
+      ->required();
+  cmd->add_option("--config", args->config, "YAML options (see config/lidar_default.yaml)");
+  cmd->add_option("--sensor", args->sensor, "hdl64 | vlp32 | vlp16 | auto (rings from elevation)")
+      ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16", "auto"}));
+  cmd->add_option("--map", args->map, "Write the accumulated, voxel-downsampled map (PLY)");
+  cmd->add_option("--map-voxel", args->map_voxel, "Voxel size of --map in metres (default 0.2)");
+  cmd->add_option("--tum", args->tum, "Also write a TUM trajectory (times from times.txt)");
+  cmd->add_option("--json", args->json, "Per-frame statistics and timing summary (JSON)");
+  cmd->add_option("--frame", args->frame, "Output frame: cam0 (default, needs calib Tr) | lidar")
+      ->check(CLI::IsMember({"cam0", "lidar"}));
+  cmd->add_flag("--quiet", args->quiet, "No progress output");
+  cmd->add_option("--threads", args->threads, "Solver threads (default 1)");
+  cmd->callback([args, exit_code]() {
+    try {
+      *exit_code = RunLidar(*args);
+    } catch (const std::exception& e) {
+      std::cerr << "plucker lidar: error: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
 
 }  // namespace app
 }  // namespace plucker

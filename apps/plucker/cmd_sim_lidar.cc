@@ -1,10 +1,170 @@
+// plucker sim lidar: simulate a spinning LiDAR on a vehicle driving through a procedural scene
+// and write a KITTI-layout sequence (see docs/lidar-io.md):
+//   DIR/velodyne/NNNNNN.bin   scans (float32 x y z intensity, ring by ring, LiDAR frame)
+//   DIR/pcd/NNNNNN.pcd        with --distortion: the same scans with ring and per-point time
+//   DIR/poses.txt             ground truth T_s0_si (LiDAR frame of scan 0 <- scan i), KITTI rows
+//   DIR/times.txt             scan start times (s)
+//   DIR/plucker_sim_lidar.txt the parameters; marks DIR as a simulator output
+// No calib.txt is written: the poses are LiDAR poses, so the odometry output is compared as is.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
 #include "commands.h"
+#include "plucker/io/io_error.h"
+#include "plucker/io/kitti_lidar.h"
+#include "plucker/io/pcd.h"
+#include "plucker/io/trajectory_io.h"
+#include "plucker/lidar/sensor_model.h"
+#include "plucker/sim/lidar_scene.h"
+#include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
 namespace app {
+namespace {
 
-// Placeholder until the module lands; the owner replaces this file.
-void RegisterSimLidar(CLI::App& sim, int* exit_code) { (void)sim; (void)exit_code; }
+namespace fs = std::filesystem;
+
+constexpr const char* kMarker = "plucker_sim_lidar.txt";
+
+struct SimLidarArgs {
+  std::string out;
+  std::string scene = "urban";
+  int frames = 100;
+  std::string sensor = "hdl64";
+  std::uint64_t seed = 1;
+  double noise = 0.02;
+  bool distortion = false;
+};
+
+// Refuses a non-empty folder that is not a previous simulator output; clears the frames of a
+// previous output (so that no stale frame survives a shorter run).
+void PrepareOutput(const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out, ec)) {
+    if (!fs::is_directory(out, ec)) throw io::IoError(out.string(), "exists and is not a folder");
+    const bool empty = fs::is_empty(out, ec);
+    if (!empty && !fs::exists(out / kMarker, ec)) {
+      throw io::IoError(out.string(),
+                        "folder is not empty and is not a previous 'plucker sim lidar' output "
+                        "(no " + std::string(kMarker) + "); refusing to write into it");
+    }
+    for (const char* sub : {"velodyne", "pcd"}) {
+      if (!fs::is_directory(out / sub, ec)) continue;
+      for (const auto& e : fs::directory_iterator(out / sub, ec)) {
+        const std::string ext = e.path().extension().string();
+        if (ext == ".bin" || ext == ".pcd") fs::remove(e.path(), ec);
+      }
+      if (fs::is_empty(out / sub, ec)) fs::remove(out / sub, ec);
+    }
+  }
+  fs::create_directories(out / "velodyne", ec);
+  if (ec) throw io::IoError((out / "velodyne").string(), "cannot create folder: " + ec.message());
+}
+
+std::string FrameName(int i, const char* ext) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%06d%s", i, ext);
+  return buf;
+}
+
+int Run(const SimLidarArgs& args) {
+  if (args.frames < 1) throw std::invalid_argument("--frames must be >= 1");
+  if (!(args.noise >= 0)) throw std::invalid_argument("--noise must be >= 0");
+  const lidar::SensorModel sensor = lidar::FromName(args.sensor);
+  const sim::LidarScene scene = sim::MakeScene(args.scene, args.seed);
+  const sim::VehicleTrajectory trajectory(scene.route);
+
+  sim::LidarSimOptions options;
+  options.elevation_rad = sensor.elevation_rad;
+  options.azimuth_steps = sensor.azimuth_steps;
+  options.rate_hz = sensor.rate_hz;
+  options.min_range = sensor.min_range;
+  options.max_range = sensor.max_range;
+  options.range_noise_sigma = args.noise;
+  options.distortion = args.distortion;
+  options.seed = args.seed;
+  const sim::LidarSimulator simulator(scene, options);
+
+  const fs::path out(args.out);
+  PrepareOutput(out);
+  if (args.distortion) {
+    std::error_code ec;
+    fs::create_directories(out / "pcd", ec);
+    if (ec) throw io::IoError((out / "pcd").string(), "cannot create folder: " + ec.message());
+  }
+  std::ostringstream marker;
+  marker << "# plucker sim lidar output (ground truth poses.txt = T_s0_si, LiDAR frame)\n"
+         << "scene " << args.scene << "\nsensor " << sensor.name << "\nframes " << args.frames
+         << "\nseed " << args.seed << "\nnoise " << args.noise << "\ndistortion "
+         << (args.distortion ? 1 : 0) << "\nrate_hz " << sensor.rate_hz << "\nloop_length_m "
+         << trajectory.loop_length() << "\n";
+  io::WriteFileAtomically((out / kMarker).string(), marker.str());
+
+  std::vector<SE3d> poses;
+  std::vector<double> times;
+  poses.reserve(args.frames);
+  times.reserve(args.frames);
+  const SE3d T_s0_w = trajectory.T_w_s(0.0).Inverse();
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t total_points = 0;
+  for (int i = 0; i < args.frames; ++i) {
+    const double t = i / sensor.rate_hz;
+    const LidarScan scan = simulator.Scan(trajectory, t, static_cast<std::size_t>(i));
+    total_points += scan.size();
+    io::WriteKittiBin((out / "velodyne" / FrameName(i, ".bin")).string(), scan);
+    if (args.distortion) io::WritePcd((out / "pcd" / FrameName(i, ".pcd")).string(), scan);
+    poses.push_back(T_s0_w * trajectory.T_w_s(t));
+    times.push_back(t);
+    if ((i + 1) % 10 == 0 || i + 1 == args.frames) {
+      std::cerr << "\rplucker sim lidar: frame " << (i + 1) << "/" << args.frames << std::flush;
+    }
+  }
+  std::cerr << "\n";
+  io::WriteKittiPoses((out / "poses.txt").string(), poses);
+  io::WriteKittiTimes((out / "times.txt").string(), times);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("wrote %d %s frames (%s scene, %.0f points/frame, %.1f ms/frame) to %s\n",
+              args.frames, sensor.name.c_str(), args.scene.c_str(),
+              static_cast<double>(total_points) / args.frames, 1e3 * seconds / args.frames,
+              args.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void RegisterSimLidar(CLI::App& sim, int* exit_code) {
+  auto args = std::make_shared<SimLidarArgs>();
+  CLI::App* cmd = sim.add_subcommand(
+      "lidar", "Simulate a spinning LiDAR on a vehicle; writes a KITTI-layout sequence");
+  cmd->add_option("--out", args->out, "Output folder (new, empty or a previous sim output)")
+      ->required();
+  cmd->add_option("--scene", args->scene, "Scene: urban (street grid, >1 km loop) or corridor")
+      ->check(CLI::IsMember({"urban", "corridor"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Number of scans (10 Hz)")->capture_default_str();
+  cmd->add_option("--sensor", args->sensor, "Sensor model: hdl64, vlp32 or vlp16")
+      ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Random seed (scene layout and noise)")
+      ->capture_default_str();
+  cmd->add_option("--noise", args->noise, "Range noise sigma (m, Gaussian)")
+      ->capture_default_str();
+  cmd->add_flag("--distortion", args->distortion,
+                "Move the sensor during each sweep and also write pcd/NNNNNN.pcd with per-point "
+                "time (for deskewing)");
+  cmd->callback([args, exit_code]() {
+    try {
+      *exit_code = Run(*args);
+    } catch (const std::exception& e) {
+      std::cerr << "plucker sim lidar: error: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
 
 }  // namespace app
 }  // namespace plucker

@@ -61,7 +61,8 @@ struct PointToEdge {
   template <typename T>
   bool operator()(const T* pose, T* r) const {
     const Eigen::Matrix<T, 3, 1> p_w = ScanPointToWorld(pose, p_s);
-    Eigen::Map<Eigen::Matrix<T, 3, 1>>(r) = u_w.cast<T>().cross(p_w - a_w.cast<T>()) * T(inv_sigma);
+    const Eigen::Matrix<T, 3, 1> Y = u_w.cast<T>().cross(p_w - a_w.cast<T>());
+    for (int i = 0; i < 3; ++i) r[i] = Y(i) * T(inv_sigma);
     return true;
   }
 };

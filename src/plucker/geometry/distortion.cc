@@ -38,8 +38,14 @@ std::optional<Eigen::Vector2d> Undistort(const RadTanDistortion& D, const Eigen:
       return x;
     }
     if (it == options.max_iterations) break;
-    // Gauss-Newton (= Newton for a square system): x <- x - J^-1 r.
-    x -= J.inverse() * r;
+    // Gauss-Newton (= Newton for a square system): x <- x - J^-1 r, halving the step while it
+    // does not decrease the residual (guards against overshoot under strong distortion).
+    const Eigen::Vector2d step = J.inverse() * r;
+    double alpha = 1.0;
+    for (int k = 0; k < 10; ++k, alpha *= 0.5) {
+      if ((Distort(D, x - alpha * step) - xd).norm() < r.norm()) break;
+    }
+    x -= alpha * step;
   }
   return std::nullopt;
 }

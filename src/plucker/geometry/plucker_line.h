@@ -1,7 +1,15 @@
-// Plücker lines L = [n; d] (moment first, n = p x d), docs/conventions.md.
+// Plücker lines L = [n; d] (moment first, n = p x d), docs/conventions.md, docs/math/lines.md.
+//
+// A Plücker line is homogeneous (any non-zero scale is the same line) and satisfies n . d = 0.
+// The value functions are templates so that the autodiff twins run them with ceres::Jet; the
+// analytic Jacobians are double-only (optional output pointers). Pose Jacobians are w.r.t. the
+// tangent (dtheta, dt) with R <- R Exp(dtheta), t <- t + dt (geometry/se3.h).
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
+
+#include "plucker/geometry/se3.h"
 
 namespace plucker {
 
@@ -26,5 +34,78 @@ Line6<T> LineFromPlanes(const Eigen::Matrix<T, 4, 1>& pi1, const Eigen::Matrix<T
   L.template tail<3>() = pi2.template head<3>().cross(pi1.template head<3>());
   return L;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Rigid transforms of lines.
+
+// H(T_a_b) = [[R, [t]x R], [0, R]]: L_a = H L_b.
+Eigen::Matrix<double, 6, 6> LineTransformMatrix(const SE3d& T_a_b);
+
+// L_a = H(T_a_b) L_b (value only, templated for Jets):
+//   n_a = R n_b + t x (R d_b),   d_a = R d_b.
+template <typename T>
+Line6<T> TransformLine(const SE3<T>& T_a_b, const Line6<T>& L_b) {
+  const Matrix3<T> R = T_a_b.RotationMatrix();
+  const Vector3<T> d_a = R * L_b.template tail<3>();
+  Line6<T> L_a;
+  L_a.template head<3>() = R * L_b.template head<3>() + T_a_b.translation().cross(d_a);
+  L_a.template tail<3>() = d_a;
+  return L_a;
+}
+
+// Same with Jacobians (this double overload is preferred over the template for doubles):
+// d_La_d_pose w.r.t. the (dtheta, dt) tangent of T_a_b,
+//   [[-R[n_b]x - [t]x R [d_b]x, -[d_a]x], [-R [d_b]x, 0]],
+// and d_La_d_Lb = H(T_a_b).
+Line6d TransformLine(const SE3d& T_a_b, const Line6d& L_b,
+                     Eigen::Matrix<double, 6, 6>* d_La_d_pose = nullptr,
+                     Eigen::Matrix<double, 6, 6>* d_La_d_Lb = nullptr);
+
+// L_c = H(T_w_c^-1) L_w (value only, templated): n_c = R^T (n_w - t x d_w), d_c = R^T d_w.
+template <typename T>
+Line6<T> LineWorldToCamera(const SE3<T>& T_w_c, const Line6<T>& L_w) {
+  const Matrix3<T> Rt = T_w_c.RotationMatrix().transpose();
+  Line6<T> L_c;
+  L_c.template head<3>() =
+      Rt * (L_w.template head<3>() - T_w_c.translation().cross(L_w.template tail<3>()));
+  L_c.template tail<3>() = Rt * L_w.template tail<3>();
+  return L_c;
+}
+
+// Same with Jacobians. d_Lc_d_Twc is w.r.t. the tangent of T_w_c (NOT of T_c_w):
+//   [[ [n_c]x, R^T [d_w]x ], [ [d_c]x, 0 ]];   d_Lc_d_Lw = H(T_w_c^-1).
+// Also usable for any pair of frames: LineWorldToCamera(T_a_b, L_a) = L_b.
+Line6d LineWorldToCamera(const SE3d& T_w_c, const Line6d& L_w,
+                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Twc = nullptr,
+                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Lw = nullptr);
+
+// ---------------------------------------------------------------------------------------------
+// Validity and normalisation. Every function below returns std::nullopt / false for non-finite
+// input or a zero direction; none of them returns NaN.
+
+// Default relative tolerance of the Plücker constraint |n . d| <= tol |n| |d|.
+constexpr double kPluckerConstraintTolerance = 1e-9;
+
+// True if L is finite, |d| > 0 and |n . d| <= tol |n| |d|.
+bool IsValidLine(const Line6d& L, double tol = kPluckerConstraintTolerance);
+
+// Scaled so that |d| = 1 (then |n| is the distance of the line from the origin).
+std::optional<Line6d> NormalizeLineDirection(const Line6d& L);
+// Scaled so that |L| = |[n; d]| = 1, with the sign kept.
+std::optional<Line6d> NormalizeLine(const Line6d& L);
+
+// ---------------------------------------------------------------------------------------------
+// Metric queries (L need not be normalised; |d| > 0 required).
+
+// The point of the line closest to the origin: p0 = (d x n) / |d|^2.
+std::optional<Eigen::Vector3d> ClosestPointToOrigin(const Line6d& L);
+// The point of the line closest to x: p0 + d (d . (x - p0)) / |d|^2.
+std::optional<Eigen::Vector3d> ClosestPointOnLine(const Line6d& L, const Eigen::Vector3d& x);
+// Distance of x from the line: |x x d - n| / |d|.
+std::optional<double> PointLineDistance(const Line6d& L, const Eigen::Vector3d& x);
+// Distance between two lines. Skew (|d1 x d2| > kParallelSine |d1||d2|):
+// |d1 . n2 + d2 . n1| / |d1 x d2|; parallel: distance of a point of L2 from L1.
+constexpr double kParallelSine = 1e-10;
+std::optional<double> LineLineDistance(const Line6d& L1, const Line6d& L2);
 
 }  // namespace plucker

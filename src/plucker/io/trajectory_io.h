@@ -52,8 +52,8 @@ Trajectory ParseTrajectory(const std::string& text, const std::string& name,
 // atomically. Throws IoError.
 void WriteKittiPoses(const std::string& path, const std::vector<SE3d>& poses);
 
-// Writes a TUM trajectory (`t tx ty tz qx qy qz qw`, shortest exact text), atomically. Throws IoError
-// (also if the sizes differ).
+// Writes a TUM trajectory (`t tx ty tz qx qy qz qw`, shortest exact text), atomically. Throws
+// IoError (also if the sizes differ).
 void WriteTumTrajectory(const std::string& path, const std::vector<double>& times,
                         const std::vector<SE3d>& poses);
 

@@ -1,0 +1,135 @@
+#include "plucker/eval/alignment.h"
+
+#include <gtest/gtest.h>
+
+#include "plucker/verify/random_geometry.h"
+
+namespace plucker {
+namespace eval {
+namespace {
+
+std::vector<Eigen::Vector3d> Transform(const Similarity& S, const std::vector<Eigen::Vector3d>& p) {
+  std::vector<Eigen::Vector3d> out;
+  for (const Eigen::Vector3d& v : p) out.push_back(S * v);
+  return out;
+}
+
+double MaxResidual(const Similarity& S, const std::vector<Eigen::Vector3d>& source,
+                   const std::vector<Eigen::Vector3d>& target) {
+  double m = 0.0;
+  for (std::size_t i = 0; i < source.size(); ++i)
+    m = std::max(m, (S * source[i] - target[i]).norm());
+  return m;
+}
+
+TEST(Umeyama, Sim3RecoversRotationTranslationAndScaleExactly) {
+  verify::Rng rng(11);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<Eigen::Vector3d> source;
+    for (int i = 0; i < 30; ++i) source.push_back(verify::RandomVector(rng, 20.0));
+    Similarity truth;
+    truth.R = verify::RandomRotation(rng).toRotationMatrix();
+    truth.t = verify::RandomVector(rng, 100.0);
+    truth.scale = verify::Uniform(rng, 0.05, 20.0);
+    const std::optional<Similarity> S =
+        UmeyamaAlignment(source, Transform(truth, source), AlignmentMode::kSim3);
+    ASSERT_TRUE(S.has_value());
+    EXPECT_LT((S->R - truth.R).norm(), 1e-9);
+    EXPECT_LT((S->t - truth.t).norm(), 1e-8);
+    EXPECT_NEAR(S->scale, truth.scale, 1e-9 * truth.scale);
+  }
+}
+
+TEST(Umeyama, Se3RecoversARotatedTranslatedCopyWithUnitScale) {
+  verify::Rng rng(12);
+  std::vector<Eigen::Vector3d> source;
+  for (int i = 0; i < 20; ++i) source.push_back(verify::RandomVector(rng, 5.0));
+  Similarity truth;
+  truth.R = verify::RandomRotation(rng).toRotationMatrix();
+  truth.t = verify::RandomVector(rng, 10.0);
+  const std::optional<Similarity> S =
+      UmeyamaAlignment(source, Transform(truth, source), AlignmentMode::kSE3);
+  ASSERT_TRUE(S.has_value());
+  EXPECT_EQ(S->scale, 1.0);
+  EXPECT_LT(MaxResidual(*S, source, Transform(truth, source)), 1e-10);
+}
+
+TEST(Umeyama, MirroredPlanarPointsGiveARotationNotAReflection) {
+  // Points in the plane z = 0, target = mirror x -> -x. For planar points this mirror equals
+  // the rotation by pi about y, so the best ROTATION fits exactly; the naive U V^T would be the
+  // reflection diag(-1, 1, 1) (det -1). Umeyama's sign correction must pick the rotation.
+  verify::Rng rng(13);
+  std::vector<Eigen::Vector3d> source, target;
+  for (int i = 0; i < 25; ++i) {
+    const Eigen::Vector3d p(verify::Uniform(rng, -5, 5), verify::Uniform(rng, -5, 5), 0.0);
+    source.push_back(p);
+    target.emplace_back(-p.x(), p.y(), 0.0);
+  }
+  for (AlignmentMode mode : {AlignmentMode::kSE3, AlignmentMode::kSim3}) {
+    const std::optional<Similarity> S = UmeyamaAlignment(source, target, mode);
+    ASSERT_TRUE(S.has_value());
+    EXPECT_NEAR(S->R.determinant(), 1.0, 1e-12);
+    EXPECT_LT((S->R.transpose() * S->R - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(S->scale, 1.0, 1e-12);
+    EXPECT_LT(MaxResidual(*S, source, target), 1e-10);
+  }
+}
+
+TEST(Umeyama, NonPlanarMirrorGivesAProperRotationWithPositiveScale) {
+  // A truly mirrored 3D cloud cannot be fitted by a rotation; the result must still be proper.
+  verify::Rng rng(14);
+  std::vector<Eigen::Vector3d> source, target;
+  for (int i = 0; i < 25; ++i) {
+    const Eigen::Vector3d p = verify::RandomVector(rng, 3.0);
+    source.push_back(p);
+    target.emplace_back(-p.x(), p.y(), p.z());
+  }
+  const std::optional<Similarity> S = UmeyamaAlignment(source, target, AlignmentMode::kSim3);
+  ASSERT_TRUE(S.has_value());
+  EXPECT_NEAR(S->R.determinant(), 1.0, 1e-12);
+  EXPECT_GT(S->scale, 0.0);
+}
+
+TEST(Umeyama, CollinearPointsAlignAndDegenerateInputsAreRejected) {
+  std::vector<Eigen::Vector3d> line, moved;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).matrix();
+  for (int i = 0; i < 10; ++i) {
+    line.emplace_back(0, 0, i);
+    moved.push_back(R * line.back() + Eigen::Vector3d(1, 2, 3));
+  }
+  const std::optional<Similarity> S = UmeyamaAlignment(line, moved, AlignmentMode::kSE3);
+  ASSERT_TRUE(S.has_value());
+  EXPECT_LT(MaxResidual(*S, line, moved), 1e-10);
+  // One point: SE(3) is a translation; Sim(3) has no scale.
+  EXPECT_TRUE(UmeyamaAlignment({line[3]}, {moved[3]}, AlignmentMode::kSE3).has_value());
+  EXPECT_FALSE(UmeyamaAlignment({line[3]}, {moved[3]}, AlignmentMode::kSim3).has_value());
+  EXPECT_FALSE(UmeyamaAlignment(line, {moved[0]}, AlignmentMode::kSE3).has_value());
+  EXPECT_FALSE(UmeyamaAlignment({}, {}, AlignmentMode::kNone).has_value());
+  const std::optional<Similarity> none = UmeyamaAlignment(line, moved, AlignmentMode::kNone);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->R, Eigen::Matrix3d::Identity());
+  EXPECT_EQ(none->t, Eigen::Vector3d::Zero());
+}
+
+TEST(Umeyama, ApplyToPoseRotatesAndScales) {
+  Similarity S;
+  S.R = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).matrix();
+  S.t = Eigen::Vector3d(1, 0, 0);
+  S.scale = 2.0;
+  const SE3d T(Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())),
+               Eigen::Vector3d(0, 1, 0));
+  const SE3d A = S.Apply(T);
+  EXPECT_LT((A.translation() - (2.0 * S.R * Eigen::Vector3d(0, 1, 0) + S.t)).norm(), 1e-15);
+  EXPECT_LT((A.RotationMatrix() - S.R * T.RotationMatrix()).norm(), 1e-15);
+}
+
+TEST(Umeyama, ModeNames) {
+  for (AlignmentMode m : {AlignmentMode::kNone, AlignmentMode::kSE3, AlignmentMode::kSim3}) {
+    EXPECT_EQ(ParseAlignmentMode(AlignmentName(m)), m);
+  }
+  EXPECT_FALSE(ParseAlignmentMode("sim(3)").has_value());
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace plucker

@@ -1,0 +1,92 @@
+#include "plucker/eval/association.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace plucker {
+namespace eval {
+
+AssociatedTrajectories AssociateByIndex(const std::vector<SE3d>& gt, const std::vector<SE3d>& est) {
+  if (gt.size() != est.size()) {
+    throw std::invalid_argument("the ground truth has " + std::to_string(gt.size()) +
+                                " poses but the estimate has " + std::to_string(est.size()) +
+                                " (frame-by-frame comparison needs equal counts)");
+  }
+  if (gt.empty()) throw std::invalid_argument("no poses to compare");
+  AssociatedTrajectories a;
+  a.gt = gt;
+  a.est = est;
+  a.gt_count = a.est_count = static_cast<int>(gt.size());
+  for (int i = 0; i < a.gt_count; ++i) {
+    a.gt_index.push_back(i);
+    a.est_index.push_back(i);
+  }
+  return a;
+}
+
+AssociatedTrajectories AssociateByTime(const std::vector<double>& gt_times,
+                                       const std::vector<SE3d>& gt,
+                                       const std::vector<double>& est_times,
+                                       const std::vector<SE3d>& est,
+                                       const AssociationOptions& options) {
+  if (gt_times.size() != gt.size() || est_times.size() != est.size()) {
+    throw std::invalid_argument("each pose needs a timestamp");
+  }
+  if (!(options.max_time_difference >= 0.0)) {
+    throw std::invalid_argument("the time tolerance must be >= 0");
+  }
+  if (!std::is_sorted(gt_times.begin(), gt_times.end()) ||
+      !std::is_sorted(est_times.begin(), est_times.end())) {
+    throw std::invalid_argument("timestamps must be non-decreasing");
+  }
+  // Nearest ground-truth time of each estimate time; then each ground-truth pose keeps only the
+  // closest estimate that chose it.
+  const int n_gt = static_cast<int>(gt.size());
+  std::vector<int> best_est(n_gt, -1);
+  std::vector<double> best_dt(n_gt, 0.0);
+  for (int j = 0; j < static_cast<int>(est.size()); ++j) {
+    const auto it = std::lower_bound(gt_times.begin(), gt_times.end(), est_times[j]);
+    int i = static_cast<int>(it - gt_times.begin());
+    if (i == n_gt || (i > 0 && est_times[j] - gt_times[i - 1] <= gt_times[i] - est_times[j])) {
+      --i;
+    }
+    if (i < 0) continue;
+    const double dt = std::abs(gt_times[i] - est_times[j]);
+    if (dt > options.max_time_difference) continue;
+    if (best_est[i] < 0 || dt < best_dt[i]) {
+      best_est[i] = j;
+      best_dt[i] = dt;
+    }
+  }
+  AssociatedTrajectories a;
+  a.by_time = true;
+  a.gt_count = n_gt;
+  a.est_count = static_cast<int>(est.size());
+  for (int i = 0; i < n_gt; ++i) {
+    if (best_est[i] < 0) continue;
+    a.gt.push_back(gt[i]);
+    a.est.push_back(est[best_est[i]]);
+    a.times.push_back(gt_times[i]);
+    a.gt_index.push_back(i);
+    a.est_index.push_back(best_est[i]);
+    a.max_time_difference_used = std::max(a.max_time_difference_used, best_dt[i]);
+  }
+  if (a.gt.empty()) {
+    throw std::invalid_argument(
+        "no estimate timestamp is within " + std::to_string(options.max_time_difference) +
+        " s of a ground-truth timestamp (ground truth " +
+        (gt_times.empty()
+             ? std::string("empty")
+             : std::to_string(gt_times.front()) + ".." + std::to_string(gt_times.back())) +
+        ", estimate " +
+        (est_times.empty()
+             ? std::string("empty")
+             : std::to_string(est_times.front()) + ".." + std::to_string(est_times.back())) +
+        ")");
+  }
+  return a;
+}
+
+}  // namespace eval
+}  // namespace plucker

@@ -1,0 +1,110 @@
+// Triangulation of a 3D line (and of the observed 3D segment) from line segments observed in
+// several calibrated views (ideal, undistorted pixels).
+// Derivations: docs/math/projection-triangulation.md.
+//
+// Every observed segment (s, e) back-projects to a plane through the camera centre containing the
+// 3D line: in the camera frame its normal is n_c = K^-1 s~ x K^-1 e~ (the image line), in the world
+// pi_w = (m, -m . t) with m = R n_c / |R n_c|, so that m . x + e = 0 (docs/conventions.md).
+//  - Two views: the line is the intersection of the two planes (LineFromPlanes).
+//  - N views: the planes, stacked as rows of an N x 4 matrix, share the line as null space: the
+//    right singular vectors of the two smallest singular values are two homogeneous points of it.
+// The angle between two planes is measured with |cos| (acos(|m_i . m_j|) in [0, pi/2]) so that the
+// endpoint order of a segment (which flips the sign of its normal) never matters.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "plucker/geometry/camera.h"
+#include "plucker/geometry/plucker_line.h"
+#include "plucker/geometry/se3.h"
+
+namespace plucker {
+
+// One observed segment: camera pose and the two endpoints in ideal pixels.
+struct LineObservation {
+  SE3d T_w_c;
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Eigen::Vector2d end = Eigen::Vector2d::Zero();
+};
+
+struct LineTriangulationOptions {
+  double min_plane_angle_deg = 2.0;  // the largest angle between two back-projected planes must
+                                     // reach this (two-view: the only pair), else kSmallParallax
+  double max_sigma_ratio = 0.5;      // N-view: reject when sigma3 / sigma2 exceeds this
+  double min_segment_length_px = 1.0;  // shorter observed segments are rejected (kInvalidInput)
+  double min_depth = 1e-3;  // the 3D endpoints must be this far in front of each camera (m)
+};
+
+enum class LineTriangulationStatus {
+  kOk,
+  kInvalidInput,     // non-finite input, invalid intrinsics, too-short segment
+  kTooFewViews,      // fewer than two observations
+  kSmallParallax,    // back-projected planes (nearly) coincide: max plane angle < minimum
+  kIllConditioned,   // N-view: sigma3 / sigma2 above max_sigma_ratio (no clear 2D null space)
+  kBehindCamera,     // an endpoint ray meets the line behind (or too close to) its camera
+  kDegenerateEndpoint,  // an endpoint ray is parallel to the 3D line (no closest point)
+};
+const char* ToString(LineTriangulationStatus status);
+
+struct LineTriangulationResult {
+  LineTriangulationStatus status = LineTriangulationStatus::kInvalidInput;
+  std::string message;  // reason when status != kOk
+  // The line, normalised so that |d| = 1 (|n| = distance from the origin), d oriented from the
+  // start towards the end endpoint of the first observation. Valid when ok().
+  Line6d L_w = Line6d::Zero();
+  // 3D segment: the extent along d of the endpoints recovered in every view (their union),
+  // ordered along d. Valid when ok().
+  Eigen::Vector3d start_w = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end_w = Eigen::Vector3d::Zero();
+  // Conditioning of the N-view system: sigma3 / sigma2 of the stacked plane matrix (0 for exact
+  // data and for the two-view method; near 1 when the planes do not define a unique line).
+  double sigma_ratio = 0.0;
+  double min_parallax_rad = 0.0;  // smallest / largest pairwise plane angle, in [0, pi/2]
+  double max_parallax_rad = 0.0;
+  bool ok() const { return status == LineTriangulationStatus::kOk; }
+};
+
+// The world plane (m, e), |m| = 1, m . x + e = 0, through the camera centre and the observed
+// segment. nullopt for non-finite input or a segment shorter than min_length_px.
+std::optional<Eigen::Vector4d> BackProjectSegment(const PinholeIntrinsics& K, const SE3d& T_w_c,
+                                                  const Eigen::Vector2d& start,
+                                                  const Eigen::Vector2d& end,
+                                                  double min_length_px = 1.0);
+
+// Angle between two planes' normals as unoriented lines, acos(|m1 . m2| / |m1||m2|), in [0, pi/2].
+double PlaneAngle(const Eigen::Vector4d& pi1, const Eigen::Vector4d& pi2);
+
+// Two-view triangulation by plane intersection.
+LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K,
+                                               const LineObservation& a,
+                                               const LineObservation& b,
+                                               const LineTriangulationOptions& options = {});
+
+// N-view linear triangulation (SVD of the stacked planes), N >= 2.
+LineTriangulationResult TriangulateLine(const PinholeIntrinsics& K,
+                                        const std::vector<LineObservation>& observations,
+                                        const LineTriangulationOptions& options = {});
+
+// Two-view triangulation from the pair of observations with the largest plane angle (|cos|).
+// Returns the indices used in *pair when non-null.
+LineTriangulationResult TriangulateLineBestPair(const PinholeIntrinsics& K,
+                                                const std::vector<LineObservation>& observations,
+                                                const LineTriangulationOptions& options = {},
+                                                std::pair<int, int>* pair = nullptr);
+
+// The 3D points of L_w closest to the back-projected rays of the observed endpoints, with the ray
+// depths (the distance along each unit ray). nullopt when an endpoint ray is parallel to the line
+// or the input is non-finite. The caller checks the depths for cheirality.
+struct SegmentEndpoints {
+  Eigen::Vector3d start_w, end_w;
+  double start_depth = 0.0, end_depth = 0.0;
+};
+std::optional<SegmentEndpoints> SegmentEndpointsOnLine(const PinholeIntrinsics& K,
+                                                       const LineObservation& observation,
+                                                       const Line6d& L_w);
+
+}  // namespace plucker

@@ -1,0 +1,567 @@
+#include "plucker/io/sim_format.h"
+
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace plucker {
+namespace io {
+
+namespace fs = std::filesystem;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr char kHeader[] = "# plucker camera simulation";
+constexpr double kMaxQuaternionNormError = 1e-9;
+
+// ---------------------------------------------------------------------------------------------
+// Writing.
+
+class Writer {
+ public:
+  explicit Writer(std::string path) : path_(std::move(path)) {}
+  Writer& Text(const std::string& s) {
+    out_ += s;
+    return *this;
+  }
+  // Numbers are separated by one space (none at the start of a line). %.17g reads back exactly.
+  Writer& Num(double v) {
+    if (!std::isfinite(v)) throw IoError(path_, "refusing to write a non-finite value");
+    char buf[40];
+    std::snprintf(buf, sizeof(buf), "%.17g", v);
+    return Field(buf);
+  }
+  Writer& Int(long long v) { return Field(std::to_string(v)); }
+  Writer& Vec(const Eigen::VectorXd& v) {
+    for (int i = 0; i < v.size(); ++i) Num(v(i));
+    return *this;
+  }
+  // TUM order: tx ty tz qx qy qz qw.
+  Writer& Pose(const SE3d& T) {
+    Vec(T.translation());
+    return Vec(T.rotation().coeffs());
+  }
+  Writer& EndLine() {
+    out_ += "\n";
+    return *this;
+  }
+  Writer& Field(const std::string& text) {
+    if (!out_.empty() && out_.back() != '\n') out_ += ' ';
+    out_ += text;
+    return *this;
+  }
+  void Commit() { WriteFileAtomically(path_, out_); }
+
+ private:
+  std::string path_;
+  std::string out_;
+};
+
+std::string Join(const std::string& dir, const std::string& name) {
+  return (fs::path(dir) / name).string();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading.
+
+struct Record {
+  int line = 0;
+  std::vector<std::string> fields;
+};
+
+class FileParser {
+ public:
+  explicit FileParser(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError(path, "cannot open (missing file?)");
+    std::ostringstream content;
+    content << in.rdbuf();
+    if (in.bad()) throw IoError(path, "read error");
+    const std::string text = content.str();
+    std::istringstream lines(text);
+    std::string line;
+    int number = 0;
+    while (std::getline(lines, line)) {
+      ++number;
+      if (number == 1) first_line_ = line;
+      Record r;
+      r.line = number;
+      std::istringstream tokens(line);
+      std::string token;
+      while (tokens >> token) r.fields.push_back(token);
+      if (r.fields.empty() || r.fields[0][0] == '#') continue;
+      records_.push_back(std::move(r));
+    }
+    // The writer ends every line with '\n': a missing one means the file was cut short.
+    if (!text.empty() && text.back() != '\n') {
+      throw IoError(path + ":" + std::to_string(number),
+                    "truncated file (the last line does not end with a newline)");
+    }
+  }
+
+  const std::vector<Record>& records() const { return records_; }
+  const std::string& first_line() const { return first_line_; }
+
+  [[noreturn]] void Fail(const Record& r, const std::string& problem) const {
+    throw IoError(path_ + ":" + std::to_string(r.line), problem);
+  }
+  void ExpectFields(const Record& r, std::size_t n, const std::string& what) const {
+    if (r.fields.size() != n) {
+      Fail(r, what + ": expected " + std::to_string(n) + " fields, found " +
+                  std::to_string(r.fields.size()));
+    }
+  }
+  double Double(const Record& r, std::size_t i) const {
+    const std::string& f = r.fields.at(i);
+    const char* begin = f.c_str();
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    if (end == begin || *end != '\0') {
+      Fail(r, "field " + std::to_string(i + 1) + " is not a number: '" + f + "'");
+    }
+    if (!std::isfinite(v)) {
+      Fail(r, "field " + std::to_string(i + 1) + " is not finite: '" + f + "'");
+    }
+    return v;
+  }
+  long long Int(const Record& r, std::size_t i, long long lo, long long hi) const {
+    const std::string& f = r.fields.at(i);
+    const char* begin = f.c_str();
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(begin, &end, 10);
+    if (end == begin || *end != '\0' || errno == ERANGE) {
+      Fail(r, "field " + std::to_string(i + 1) + " is not an integer: '" + f + "'");
+    }
+    if (v < lo || v > hi) {
+      Fail(r, "field " + std::to_string(i + 1) + " = " + f + " is out of range [" +
+                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    return v;
+  }
+  Vector3d Vec3(const Record& r, std::size_t i) const {
+    return Vector3d(Double(r, i), Double(r, i + 1), Double(r, i + 2));
+  }
+  // tx ty tz qx qy qz qw starting at field i.
+  SE3d Pose(const Record& r, std::size_t i) const {
+    const Vector3d t = Vec3(r, i);
+    const Eigen::Quaterniond q(Double(r, i + 6), Double(r, i + 3), Double(r, i + 4),
+                               Double(r, i + 5));
+    if (!(std::abs(q.norm() - 1.0) <= kMaxQuaternionNormError)) {
+      Fail(r, "the quaternion is not unit (norm " + std::to_string(q.norm()) + ")");
+    }
+    return SE3d(q, t);
+  }
+
+ private:
+  std::string path_;
+  std::string first_line_;
+  std::vector<Record> records_;
+};
+
+// Key-value files (scene.txt, rig.txt): the first field is the key.
+void ReadScene(const std::string& path, sim::Scene* scene) {
+  const FileParser p(path);
+  bool have_kind = false, have_free_space = false, have_counts = false;
+  long long planes = 0, points = 0, segments = 0;
+  for (const Record& r : p.records()) {
+    const std::string& key = r.fields[0];
+    if (key == "counts") {
+      p.ExpectFields(r, 4, "counts");
+      planes = p.Int(r, 1, 0, LLONG_MAX);
+      points = p.Int(r, 2, 0, LLONG_MAX);
+      segments = p.Int(r, 3, 0, LLONG_MAX);
+      have_counts = true;
+    } else if (key == "kind") {
+      p.ExpectFields(r, 2, "kind");
+      try {
+        scene->kind = sim::ParseSceneKind(r.fields[1]);
+      } catch (const std::invalid_argument& e) {
+        p.Fail(r, e.what());
+      }
+      have_kind = true;
+    } else if (key == "free_space") {
+      p.ExpectFields(r, 7, "free_space");
+      scene->free_space_w = Eigen::AlignedBox3d(p.Vec3(r, 1), p.Vec3(r, 4));
+      if (scene->free_space_w.isEmpty()) p.Fail(r, "free_space: min > max");
+      have_free_space = true;
+    } else if (key == "plane") {
+      p.ExpectFields(r, 6, "plane");
+      p.Int(r, 1, static_cast<long long>(scene->planes_w.size()),
+            static_cast<long long>(scene->planes_w.size()));
+      const Eigen::Vector4d pi(p.Double(r, 2), p.Double(r, 3), p.Double(r, 4), p.Double(r, 5));
+      if (!(std::abs(pi.head<3>().norm() - 1.0) <= 1e-9)) p.Fail(r, "plane normal is not unit");
+      scene->planes_w.push_back(pi);
+    } else if (key == "point") {
+      p.ExpectFields(r, 6, "point");
+      p.Int(r, 1, static_cast<long long>(scene->points_w.size()),
+            static_cast<long long>(scene->points_w.size()));
+      scene->points_w.push_back(p.Vec3(r, 2));
+      scene->point_plane_ids.push_back(
+          static_cast<int>(p.Int(r, 5, 0, static_cast<long long>(scene->planes_w.size()) - 1)));
+    } else if (key == "segment") {
+      p.ExpectFields(r, 8, "segment");
+      p.Int(r, 1, static_cast<long long>(scene->segments_w.size()),
+            static_cast<long long>(scene->segments_w.size()));
+      sim::LineSegment3 s{p.Vec3(r, 2), p.Vec3(r, 5)};
+      if ((s.b_w - s.a_w).norm() == 0.0) p.Fail(r, "zero-length segment");
+      scene->segments_w.push_back(s);
+    } else {
+      p.Fail(r, "unknown record '" + key + "'");
+    }
+  }
+  if (!have_kind) throw IoError(path, "missing 'kind' record");
+  if (!have_free_space) throw IoError(path, "missing 'free_space' record");
+  if (!have_counts) throw IoError(path, "missing 'counts' record");
+  if (static_cast<long long>(scene->planes_w.size()) != planes ||
+      static_cast<long long>(scene->points_w.size()) != points ||
+      static_cast<long long>(scene->segments_w.size()) != segments) {
+    throw IoError(path,
+                  "the numbers of planes, points and segments differ from its 'counts' "
+                  "record (truncated or edited file?)");
+  }
+}
+
+// Row counts announced by rig.txt, checked against the other files (catches files cut at a
+// line boundary).
+struct Counts {
+  long long frames = 0, imu = 0, points = 0, segments = 0;
+};
+
+void CheckCount(const std::string& path, std::size_t found, long long expected) {
+  if (static_cast<long long>(found) != expected) {
+    throw IoError(path, "has " + std::to_string(found) + " data rows, rig.txt announces " +
+                            std::to_string(expected) + " (truncated or edited file?)");
+  }
+}
+
+void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts) {
+  const FileParser p(path);
+  if (p.first_line().rfind(kHeader, 0) != 0) {
+    throw IoError(path + ":1", std::string("missing header line '") + kHeader + "'");
+  }
+  std::map<std::string, const Record*> by_key;
+  for (const Record& r : p.records()) {
+    if (!by_key.emplace(r.fields[0], &r).second) p.Fail(r, "duplicate '" + r.fields[0] + "'");
+  }
+  const std::map<std::string, std::size_t> expected = {
+      {"image", 3},         {"intrinsics", 5},       {"T_b_c", 8},       {"imu_rate_hz", 2},
+      {"imu_noise", 5},     {"imu_initial_bias", 7}, {"gravity", 4},     {"pixel_sigma", 2},
+      {"outlier_ratio", 2}, {"min_segment_px", 2},   {"depth_range", 3}, {"observe", 3},
+      {"counts", 5}};
+  for (const auto& [key, record] : by_key) {
+    const auto it = expected.find(key);
+    if (it == expected.end()) p.Fail(*record, "unknown record '" + key + "'");
+    p.ExpectFields(*record, it->second, key);
+  }
+  for (const auto& [key, n] : expected) {
+    (void)n;
+    if (!by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
+  }
+  sim::CameraRig& rig = sim->rig;
+  const Record& image = *by_key["image"];
+  rig.width = static_cast<int>(p.Int(image, 1, 2, 1 << 20));
+  rig.height = static_cast<int>(p.Int(image, 2, 2, 1 << 20));
+  const Record& k = *by_key["intrinsics"];
+  rig.K = PinholeIntrinsics{p.Double(k, 1), p.Double(k, 2), p.Double(k, 3), p.Double(k, 4)};
+  if (!rig.K.IsValid()) p.Fail(k, "intrinsics: fx and fy must be positive");
+  const Record& tbc = *by_key["T_b_c"];
+  rig.T_b_c = p.Pose(tbc, 1);
+
+  sim::ImuOptions& imu = sim->imu_options;
+  const Record& rate = *by_key["imu_rate_hz"];
+  imu.rate_hz = p.Double(rate, 1);
+  if (!(imu.rate_hz > 0)) p.Fail(rate, "imu_rate_hz must be positive");
+  const Record& noise = *by_key["imu_noise"];
+  imu.gyro_noise_density = p.Double(noise, 1);
+  imu.accel_noise_density = p.Double(noise, 2);
+  imu.gyro_bias_random_walk = p.Double(noise, 3);
+  imu.accel_bias_random_walk = p.Double(noise, 4);
+  for (int i = 1; i <= 4; ++i) {
+    if (p.Double(noise, i) < 0) p.Fail(noise, "imu_noise: densities must be >= 0");
+  }
+  const Record& bias = *by_key["imu_initial_bias"];
+  imu.initial_gyro_bias = p.Vec3(bias, 1);
+  imu.initial_accel_bias = p.Vec3(bias, 4);
+  imu.gravity_w = p.Vec3(*by_key["gravity"], 1);
+
+  sim::ObservationOptions& obs = sim->obs_options;
+  const Record& sigma = *by_key["pixel_sigma"];
+  obs.pixel_sigma = p.Double(sigma, 1);
+  if (obs.pixel_sigma < 0) p.Fail(sigma, "pixel_sigma must be >= 0");
+  const Record& ratio = *by_key["outlier_ratio"];
+  obs.outlier_ratio = p.Double(ratio, 1);
+  if (obs.outlier_ratio < 0 || obs.outlier_ratio > 0.9)
+    p.Fail(ratio, "outlier_ratio not in [0, 0.9]");
+  const Record& min_px = *by_key["min_segment_px"];
+  obs.min_segment_px = p.Double(min_px, 1);
+  if (obs.min_segment_px < 0) p.Fail(min_px, "min_segment_px must be >= 0");
+  const Record& depth = *by_key["depth_range"];
+  obs.min_depth = p.Double(depth, 1);
+  obs.max_depth = p.Double(depth, 2);
+  if (!(obs.min_depth > 0 && obs.max_depth > obs.min_depth)) {
+    p.Fail(depth, "depth_range: need 0 < min < max");
+  }
+  const Record& observe = *by_key["observe"];
+  obs.observe_points = p.Int(observe, 1, 0, 1) == 1;
+  obs.observe_segments = p.Int(observe, 2, 0, 1) == 1;
+  const Record& c = *by_key["counts"];
+  counts->frames = p.Int(c, 1, 1, LLONG_MAX);
+  counts->imu = p.Int(c, 2, 0, LLONG_MAX);
+  counts->points = p.Int(c, 3, 0, LLONG_MAX);
+  counts->segments = p.Int(c, 4, 0, LLONG_MAX);
+}
+
+void ReadFrames(const std::string& trajectory_path, const std::string& body_path,
+                sim::CameraSimulation* sim) {
+  const FileParser tp(trajectory_path);
+  for (const Record& r : tp.records()) {
+    tp.ExpectFields(r, 8, "trajectory row (t tx ty tz qx qy qz qw)");
+    const double t = tp.Double(r, 0);
+    if (!sim->frame_times.empty() && !(t > sim->frame_times.back())) {
+      tp.Fail(r, "frame times must increase");
+    }
+    sim->frame_times.push_back(t);
+    sim->T_w_c_gt.push_back(tp.Pose(r, 1));
+  }
+  if (sim->frame_times.empty()) throw IoError(trajectory_path, "no frames");
+  const FileParser bp(body_path);
+  for (const Record& r : bp.records()) {
+    bp.ExpectFields(r, 11, "body state row (t tx ty tz qx qy qz qw vx vy vz)");
+    const std::size_t i = sim->T_w_b_gt.size();
+    if (i >= sim->frame_times.size()) bp.Fail(r, "more rows than trajectory.txt has frames");
+    if (bp.Double(r, 0) != sim->frame_times[i]) {
+      bp.Fail(r, "time differs from trajectory.txt row " + std::to_string(i + 1));
+    }
+    sim->T_w_b_gt.push_back(bp.Pose(r, 1));
+    sim->v_w_gt.push_back(bp.Vec3(r, 8));
+  }
+  if (sim->T_w_b_gt.size() != sim->frame_times.size()) {
+    throw IoError(body_path, "has " + std::to_string(sim->T_w_b_gt.size()) +
+                                 " rows, trajectory.txt has " +
+                                 std::to_string(sim->frame_times.size()));
+  }
+}
+
+void ReadImu(const std::string& path, sim::CameraSimulation* sim) {
+  const FileParser p(path);
+  for (const Record& r : p.records()) {
+    p.ExpectFields(r, 13, "imu row (t gyro accel gyro_bias accel_bias)");
+    sim::ImuSample s;
+    s.t = p.Double(r, 0);
+    if (!sim->imu.empty() && !(s.t > sim->imu.back().t)) p.Fail(r, "imu times must increase");
+    s.gyro = p.Vec3(r, 1);
+    s.accel = p.Vec3(r, 4);
+    s.gyro_bias = p.Vec3(r, 7);
+    s.accel_bias = p.Vec3(r, 10);
+    sim->imu.push_back(s);
+  }
+}
+
+void ReadObservations(const std::string& points_path, const std::string& segments_path,
+                      sim::CameraSimulation* sim) {
+  const long long last_frame = static_cast<long long>(sim->frame_times.size()) - 1;
+  const FileParser pp(points_path);
+  for (const Record& r : pp.records()) {
+    pp.ExpectFields(r, 4, "point observation (frame point_id u v)");
+    sim::PointObservation o;
+    o.frame = static_cast<int>(pp.Int(r, 0, 0, last_frame));
+    o.point_id =
+        static_cast<int>(pp.Int(r, 1, -1, static_cast<long long>(sim->scene.points_w.size()) - 1));
+    o.uv = Vector2d(pp.Double(r, 2), pp.Double(r, 3));
+    if (!sim->points.empty() && o.frame < sim->points.back().frame) {
+      pp.Fail(r, "observations must be sorted by frame");
+    }
+    sim->points.push_back(o);
+    ++(o.point_id < 0 ? sim->stats.num_point_outliers : sim->stats.num_point_inliers);
+  }
+  const FileParser sp(segments_path);
+  for (const Record& r : sp.records()) {
+    sp.ExpectFields(r, 6, "segment observation (frame line_id su sv eu ev)");
+    sim::SegmentObservation o;
+    o.frame = static_cast<int>(sp.Int(r, 0, 0, last_frame));
+    o.line_id = static_cast<int>(
+        sp.Int(r, 1, -1, static_cast<long long>(sim->scene.segments_w.size()) - 1));
+    o.s_px = Vector2d(sp.Double(r, 2), sp.Double(r, 3));
+    o.e_px = Vector2d(sp.Double(r, 4), sp.Double(r, 5));
+    if (!sim->segments.empty() && o.frame < sim->segments.back().frame) {
+      sp.Fail(r, "observations must be sorted by frame");
+    }
+    sim->segments.push_back(o);
+    ++(o.line_id < 0 ? sim->stats.num_segment_outliers : sim->stats.num_segment_inliers);
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& CameraSimulationFileNames() {
+  static const std::vector<std::string> names = {"scene.txt",       "rig.txt", "trajectory.txt",
+                                                 "body_states.txt", "imu.txt", "points.txt",
+                                                 "segments.txt"};
+  return names;
+}
+
+void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& sim) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError(dir, "cannot create the folder: " + ec.message());
+  const std::size_t n = sim.frame_times.size();
+  if (sim.T_w_c_gt.size() != n || sim.T_w_b_gt.size() != n || sim.v_w_gt.size() != n) {
+    throw IoError(dir,
+                  "inconsistent simulation: frame_times, T_w_c_gt, T_w_b_gt and v_w_gt "
+                  "differ in size");
+  }
+  if (sim.scene.point_plane_ids.size() != sim.scene.points_w.size()) {
+    throw IoError(dir, "inconsistent simulation: point_plane_ids and points_w differ in size");
+  }
+
+  // rig.txt first: its header marks the folder as a simulation (IsSafeToWriteCameraSimulation).
+  const std::string header = std::string(kHeader) + " (docs/sim-format.md), format 1\n";
+  {
+    Writer w(Join(dir, "rig.txt"));
+    const sim::CameraRig& rig = sim.rig;
+    const sim::ImuOptions& imu = sim.imu_options;
+    const sim::ObservationOptions& obs = sim.obs_options;
+    w.Text(header).Text("# camera rig, IMU and observation noise models\n");
+    w.Text("image").Int(rig.width).Int(rig.height).EndLine();
+    w.Text("intrinsics").Num(rig.K.fx).Num(rig.K.fy).Num(rig.K.cx).Num(rig.K.cy).EndLine();
+    w.Text("T_b_c").Pose(rig.T_b_c).EndLine();
+    w.Text("imu_rate_hz").Num(imu.rate_hz).EndLine();
+    w.Text("imu_noise")
+        .Num(imu.gyro_noise_density)
+        .Num(imu.accel_noise_density)
+        .Num(imu.gyro_bias_random_walk)
+        .Num(imu.accel_bias_random_walk)
+        .EndLine();
+    w.Text("imu_initial_bias").Vec(imu.initial_gyro_bias).Vec(imu.initial_accel_bias).EndLine();
+    w.Text("gravity").Vec(imu.gravity_w).EndLine();
+    w.Text("pixel_sigma").Num(obs.pixel_sigma).EndLine();
+    w.Text("outlier_ratio").Num(obs.outlier_ratio).EndLine();
+    w.Text("min_segment_px").Num(obs.min_segment_px).EndLine();
+    w.Text("depth_range").Num(obs.min_depth).Num(obs.max_depth).EndLine();
+    w.Text("observe").Int(obs.observe_points).Int(obs.observe_segments).EndLine();
+    w.Text("counts").Int(static_cast<long long>(n)).Int(static_cast<long long>(sim.imu.size()));
+    w.Int(static_cast<long long>(sim.points.size()));
+    w.Int(static_cast<long long>(sim.segments.size())).EndLine();
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "scene.txt"));
+    const sim::Scene& s = sim.scene;
+    w.Text(header).Text("# kind K | free_space min max | plane id mx my mz e | ");
+    w.Text("point id x y z plane_id | segment id ax ay az bx by bz\n");
+    w.Text("kind " + sim::SceneKindName(s.kind)).EndLine();
+    w.Text("counts").Int(static_cast<long long>(s.planes_w.size()));
+    w.Int(static_cast<long long>(s.points_w.size()));
+    w.Int(static_cast<long long>(s.segments_w.size())).EndLine();
+    w.Text("free_space").Vec(s.free_space_w.min()).Vec(s.free_space_w.max()).EndLine();
+    for (std::size_t i = 0; i < s.planes_w.size(); ++i) {
+      w.Text("plane").Int(static_cast<long long>(i)).Vec(s.planes_w[i]).EndLine();
+    }
+    for (std::size_t i = 0; i < s.points_w.size(); ++i) {
+      w.Text("point").Int(static_cast<long long>(i)).Vec(s.points_w[i]);
+      w.Int(s.point_plane_ids[i]).EndLine();
+    }
+    for (std::size_t i = 0; i < s.segments_w.size(); ++i) {
+      w.Text("segment").Int(static_cast<long long>(i)).Vec(s.segments_w[i].a_w);
+      w.Vec(s.segments_w[i].b_w).EndLine();
+    }
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "trajectory.txt"));
+    w.Text(header).Text("# T_w_c per frame (TUM): t tx ty tz qx qy qz qw\n");
+    for (std::size_t i = 0; i < n; ++i) {
+      w.Num(sim.frame_times[i]).Pose(sim.T_w_c_gt[i]).EndLine();
+    }
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "body_states.txt"));
+    w.Text(header).Text("# T_w_b and v_w per frame: t tx ty tz qx qy qz qw vx vy vz\n");
+    for (std::size_t i = 0; i < n; ++i) {
+      w.Num(sim.frame_times[i]).Pose(sim.T_w_b_gt[i]).Vec(sim.v_w_gt[i]).EndLine();
+    }
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "imu.txt"));
+    w.Text(header).Text("# t gx gy gz ax ay az bgx bgy bgz bax bay baz (biases: ground truth)\n");
+    for (const sim::ImuSample& s : sim.imu) {
+      w.Num(s.t).Vec(s.gyro).Vec(s.accel).Vec(s.gyro_bias).Vec(s.accel_bias).EndLine();
+    }
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "points.txt"));
+    w.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
+    for (const sim::PointObservation& o : sim.points) {
+      w.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
+    }
+    w.Commit();
+  }
+  {
+    Writer w(Join(dir, "segments.txt"));
+    w.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
+    for (const sim::SegmentObservation& o : sim.segments) {
+      w.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
+    }
+    w.Commit();
+  }
+}
+
+sim::CameraSimulation ReadCameraSimulation(const std::string& dir) {
+  sim::CameraSimulation sim;
+  Counts counts;
+  ReadRig(Join(dir, "rig.txt"), &sim, &counts);
+  ReadScene(Join(dir, "scene.txt"), &sim.scene);
+  ReadFrames(Join(dir, "trajectory.txt"), Join(dir, "body_states.txt"), &sim);
+  CheckCount(Join(dir, "trajectory.txt"), sim.frame_times.size(), counts.frames);
+  ReadImu(Join(dir, "imu.txt"), &sim);
+  CheckCount(Join(dir, "imu.txt"), sim.imu.size(), counts.imu);
+  ReadObservations(Join(dir, "points.txt"), Join(dir, "segments.txt"), &sim);
+  CheckCount(Join(dir, "points.txt"), sim.points.size(), counts.points);
+  CheckCount(Join(dir, "segments.txt"), sim.segments.size(), counts.segments);
+  return sim;
+}
+
+bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why) {
+  auto refuse = [why](const std::string& reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return true;
+  if (!fs::is_directory(dir, ec)) return refuse(dir + " exists and is not a folder");
+  const std::vector<std::string>& names = CameraSimulationFileNames();
+  const std::set<std::string> known(names.begin(), names.end());
+  bool any = false;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    any = true;
+    const std::string name = it->path().filename().string();
+    const bool temp = name.size() > 13 && name.compare(name.size() - 13, 13, ".tmp-plucker") == 0;
+    if (!it->is_regular_file() || (!known.count(name) && !temp)) {
+      return refuse(Join(dir, name) + " is not part of a camera simulation");
+    }
+  }
+  if (ec) return refuse(dir + ": cannot list the folder: " + ec.message());
+  if (!any) return true;
+  std::ifstream rig(Join(dir, "rig.txt"));
+  std::string first;
+  if (!rig || !std::getline(rig, first) || first.rfind(kHeader, 0) != 0) {
+    return refuse(Join(dir, "rig.txt") + " is missing or lacks the simulation header");
+  }
+  return true;
+}
+
+}  // namespace io
+}  // namespace plucker

@@ -1,0 +1,38 @@
+// The camera simulation folder format (docs/sim-format.md): plain text, one record a line,
+// '#' comments, numbers written with %.17g so that every double reads back bit-exactly.
+//   scene.txt          kind, free space, planes, points (with their plane), segments
+//   rig.txt            image size, intrinsics, T_b_c, IMU and observation noise models
+//   trajectory.txt     TUM rows `t tx ty tz qx qy qz qw` of T_w_c (one per frame)
+//   body_states.txt    `t tx ty tz qx qy qz qw vx vy vz` of T_w_b and v_w (one per frame)
+//   imu.txt            `t gx gy gz ax ay az bgx bgy bgz bax bay baz`
+//   points.txt         `frame point_id u v`
+//   segments.txt       `frame line_id su sv eu ev`
+// The reader validates everything (field counts, numbers, finiteness, unit quaternions, ids and
+// frames in range, increasing times) and throws io::IoError naming the file and the line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "plucker/io/io_error.h"
+#include "plucker/sim/camera_observations.h"
+
+namespace plucker {
+namespace io {
+
+// The file names of the format, in writing order.
+const std::vector<std::string>& CameraSimulationFileNames();
+
+// Writes the folder (which must exist) with io::WriteFileAtomically. Throws IoError.
+void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& simulation);
+
+// Reads and validates a folder written by WriteCameraSimulation. Throws IoError.
+sim::CameraSimulation ReadCameraSimulation(const std::string& dir);
+
+// True when `dir` does not exist, is an empty folder, or holds only files of this format
+// (a previous simulation, whose rig.txt starts with the format's header). Otherwise false, with
+// the reason (e.g. the first foreign file) in *why. Never modifies anything.
+bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why = nullptr);
+
+}  // namespace io
+}  // namespace plucker

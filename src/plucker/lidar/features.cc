@@ -1,0 +1,263 @@
+#include "plucker/lidar/features.h"
+
+#include <tsl/robin_set.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "plucker/lidar/voxel_key.h"
+
+namespace plucker {
+namespace lidar {
+namespace {
+
+constexpr int kMaxRings = 1024;
+
+// One ring's valid points in firing order, with the quantities the selection needs.
+struct Ring {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<double> depth;
+  std::vector<int> source;  // index into the scan (for the time channel)
+};
+
+// Relative time of a ring point from its azimuth: the fraction of a revolution swept since the
+// ring's first point, in the ring's rotation direction.
+class AzimuthClock {
+ public:
+  AzimuthClock(const Ring& ring, double period) : period_(period), n_(ring.p.size()) {
+    start_ = std::atan2(ring.p[0].y(), ring.p[0].x());
+    const std::size_t quarter = std::max<std::size_t>(1, n_ / 4);
+    const double a = std::atan2(ring.p[quarter].y(), ring.p[quarter].x());
+    direction_ = Wrap(a - start_) >= 0.0 ? 1.0 : -1.0;
+  }
+  double operator()(const Eigen::Vector3d& p, std::size_t index) const {
+    double swept = Wrap(direction_ * (std::atan2(p.y(), p.x()) - start_));
+    if (swept < 0.0) swept += 2.0 * M_PI;
+    // Near the end of the ring a sweep slightly past 2 pi wraps to ~0: use the index to tell.
+    if (index > n_ / 2 && swept < 0.5 * M_PI) swept = 2.0 * M_PI;
+    if (index < n_ / 2 && swept > 1.5 * M_PI) swept = 0.0;
+    return period_ * swept / (2.0 * M_PI);
+  }
+
+ private:
+  static double Wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
+  double period_;
+  std::size_t n_;
+  double start_ = 0.0;
+  double direction_ = 1.0;
+};
+
+}  // namespace
+
+void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
+                     std::vector<double>* times) {
+  if (voxel_size <= 0.0 || points->empty()) return;
+  const bool with_times = times != nullptr && times->size() == points->size();
+  const double inv = 1.0 / voxel_size;
+  tsl::robin_set<std::uint64_t, VoxelKeyHash> seen;
+  seen.reserve(points->size());
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < points->size(); ++i) {
+    if (!seen.insert(PackVoxel(VoxelOf((*points)[i], inv))).second) continue;
+    (*points)[out] = (*points)[i];
+    if (with_times) (*times)[out] = (*times)[i];
+    ++out;
+  }
+  points->resize(out);
+  if (with_times) times->resize(out);
+}
+
+bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeatures* features,
+                     std::string* error) {
+  *features = ScanFeatures();
+  FeatureStats& stats = features->stats;
+  stats.input_points = static_cast<int>(scan.size());
+  if (scan.ring.size() != scan.size()) {
+    *error = "scan has no ring channel (assign rings first)";
+    return false;
+  }
+  const bool has_time = !scan.time.empty();
+  if (has_time && scan.time.size() != scan.size()) {
+    *error = "time channel size differs from the point count";
+    return false;
+  }
+  const int k = std::max(1, o.curvature_half_window);
+
+  // Split into rings, keeping firing order; range gating and NaN removal.
+  int num_rings = 0;
+  for (int r : scan.ring) {
+    if (r >= kMaxRings) {
+      *error = "ring index " + std::to_string(r) + " out of range";
+      return false;
+    }
+    num_rings = std::max(num_rings, r + 1);
+  }
+  std::vector<Ring> rings(num_rings);
+  {
+    std::vector<int> counts(num_rings, 0);
+    for (int r : scan.ring)
+      if (r >= 0) ++counts[r];
+    for (int r = 0; r < num_rings; ++r) {
+      rings[r].p.reserve(counts[r]);
+      rings[r].depth.reserve(counts[r]);
+      if (has_time) rings[r].source.reserve(counts[r]);
+    }
+  }
+  const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Eigen::Vector3d& p = scan.points[i];
+    if (scan.ring[i] < 0 || !p.allFinite()) continue;
+    const double sq = p.squaredNorm();
+    if (sq < min_sq || sq > max_sq) continue;
+    Ring& ring = rings[scan.ring[i]];
+    ring.p.push_back(p);
+    ring.depth.push_back(std::sqrt(sq));
+    if (has_time) ring.source.push_back(static_cast<int>(i));
+    ++stats.valid_points;
+  }
+
+  const bool times = o.compute_times;
+  stats.times_from_azimuth = times && !has_time;
+  std::vector<Eigen::Vector3d> edges, planes;
+  std::vector<double> edge_times, plane_times;
+  std::vector<double> curvature;
+  std::vector<int> order;
+  std::vector<char> picked, label;
+  std::vector<Eigen::Vector3d> prefix;
+  const double supp_sq = o.suppression_distance * o.suppression_distance;
+  const double thin_sq = 0.25 * o.plane_voxel_size * o.plane_voxel_size;
+
+  for (const Ring& ring : rings) {
+    const int n = static_cast<int>(ring.p.size());
+    if (n < 2 * k + 1 + o.sectors) continue;
+    ++stats.rings;
+    const AzimuthClock clock(ring, o.scan_period);
+    auto time_of = [&](int i) {
+      return has_time ? scan.time[ring.source[i]] : clock(ring.p[i], static_cast<std::size_t>(i));
+    };
+
+    // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
+    prefix.assign(n + 1, Eigen::Vector3d::Zero());
+    for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
+    curvature.assign(n, 0.0);
+    for (int i = k; i < n - k; ++i) {
+      const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * ring.p[i];
+      curvature[i] = diff.squaredNorm();
+    }
+
+    // Unreliable points (LOAM): occlusion boundaries and surfaces parallel to the beam.
+    picked.assign(n, 0);
+    label.assign(n, 0);
+    for (int i = k; i < n - k - 1; ++i) {
+      const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
+      const double jump = std::abs(d1 - d2) / std::min(d1, d2);
+      if (jump > o.occlusion_depth_jump) {
+        const double gap = (ring.p[i + 1] / d2 - ring.p[i] / d1).norm();  // angle, radians
+        if (gap < o.occlusion_max_gap / std::min(d1, d2)) {
+          if (d1 > d2) {  // i is on the farther surface: i-k+1..i may be occluded
+            for (int l = 0; l < k; ++l) {
+              if (!picked[i - l]) ++stats.occluded_rejected;
+              picked[i - l] = 2;
+            }
+          } else {
+            for (int l = 1; l <= k; ++l) {
+              if (!picked[i + l]) ++stats.occluded_rejected;
+              picked[i + l] = 2;
+            }
+          }
+        }
+      }
+      const double prev_sq = (ring.p[i] - ring.p[i - 1]).squaredNorm();
+      const double next_sq = (ring.p[i + 1] - ring.p[i]).squaredNorm();
+      const double bound = o.parallel_beam_ratio * d1 * d1;
+      if (prev_sq > bound && next_sq > bound && !picked[i]) {
+        picked[i] = 2;
+        ++stats.parallel_rejected;
+      }
+    }
+
+    auto suppress = [&](int i) {
+      for (int l = 1; l <= k && i + l < n; ++l) {
+        if ((ring.p[i + l] - ring.p[i + l - 1]).squaredNorm() > supp_sq) break;
+        if (!picked[i + l]) picked[i + l] = 1;
+      }
+      for (int l = 1; l <= k && i - l >= 0; ++l) {
+        if ((ring.p[i - l] - ring.p[i - l + 1]).squaredNorm() > supp_sq) break;
+        if (!picked[i - l]) picked[i - l] = 1;
+      }
+    };
+
+    const int usable = n - 2 * k;
+    for (int s = 0; s < o.sectors; ++s) {
+      const int begin = k + usable * s / o.sectors;
+      const int end = k + usable * (s + 1) / o.sectors;  // exclusive
+      if (end <= begin) continue;
+      // Edge candidates (curvature above the threshold, usually few), strongest first.
+      order.clear();
+      for (int i = begin; i < end; ++i)
+        if (curvature[i] > o.edge_threshold && !picked[i]) order.push_back(i);
+      std::sort(order.begin(), order.end(),
+                [&](int a, int b) { return curvature[a] > curvature[b]; });
+      int count = 0;
+      for (const int i : order) {
+        if (picked[i]) continue;
+        ++count;
+        if (count > o.max_edges_per_sector) break;
+        if (count <= o.max_sharp_per_sector) {
+          features->sharp.push_back(ring.p[i]);
+          label[i] = 2;
+        } else {
+          label[i] = 1;
+        }
+        edges.push_back(ring.p[i]);
+        if (times) edge_times.push_back(time_of(i));
+        picked[i] = 1;
+        suppress(i);
+      }
+
+      // Flat: the smallest curvatures, by repeated selection (max_flat_per_sector is small).
+      for (count = 0; count < o.max_flat_per_sector; ++count) {
+        int best = -1;
+        for (int i = begin; i < end; ++i) {
+          if (picked[i] || curvature[i] >= o.plane_threshold) continue;
+          if (best < 0 || curvature[i] < curvature[best]) best = i;
+        }
+        if (best < 0) break;
+        label[best] = -1;
+        features->flat.push_back(ring.p[best]);
+        picked[best] = 1;
+        suppress(best);
+      }
+
+      // Less flat: every non-edge point that was not rejected, thinned along the ring first.
+      Eigen::Vector3d last(1e30, 1e30, 1e30);
+      for (int i = begin; i < end; ++i) {
+        if (label[i] > 0 || picked[i] == 2) continue;
+        if (label[i] == 0 && (ring.p[i] - last).squaredNorm() < thin_sq) continue;
+        last = ring.p[i];
+        planes.push_back(ring.p[i]);
+        if (times) plane_times.push_back(time_of(i));
+      }
+    }
+  }
+  if (stats.rings == 0) {
+    *error = "no ring has enough valid points (" + std::to_string(stats.valid_points) +
+             " valid of " + std::to_string(stats.input_points) + ")";
+    return false;
+  }
+  VoxelDownsample(o.edge_voxel_size, &edges, times ? &edge_times : nullptr);
+  VoxelDownsample(o.plane_voxel_size, &planes, times ? &plane_times : nullptr);
+  features->edges = std::move(edges);
+  features->planes = std::move(planes);
+  features->edge_times = std::move(edge_times);
+  features->plane_times = std::move(plane_times);
+  stats.sharp = static_cast<int>(features->sharp.size());
+  stats.edges = static_cast<int>(features->edges.size());
+  stats.flat = static_cast<int>(features->flat.size());
+  stats.planes = static_cast<int>(features->planes.size());
+  return true;
+}
+
+}  // namespace lidar
+}  // namespace plucker

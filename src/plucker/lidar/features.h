@@ -1,0 +1,85 @@
+// LOAM-style feature extraction from one LiDAR scan (Zhang and Singh, "LOAM: Lidar Odometry and
+// Mapping in Real-time", RSS 2014), written for this project.
+//
+// Per ring, points in firing order:
+//   1. range gating (min_range <= |p| <= max_range, finite points only);
+//   2. curvature c_i = |sum_{j=-k..k, j!=0} (p_{i+j} - p_i)|^2 (m^2) over +-k neighbours
+//      (k = curvature_half_window, 5 as in LOAM) along the ring;
+//   3. rejection of unreliable points as in LOAM: the far side of a depth jump (possibly occluded:
+//      the k points next to the jump on the farther surface), and points on surfaces nearly
+//      parallel to the beam (both neighbours farther than parallel_beam_ratio * range);
+//   4. each ring split into `sectors` equal parts; per sector the points with the largest
+//      curvature above edge_threshold become edge points (`sharp`: up to max_sharp_per_sector;
+//      `edges` also holds up to max_edges_per_sector weaker ones), those with the smallest
+//      curvature below plane_threshold become `flat` (up to max_flat_per_sector); a picked point
+//      suppresses its +-k neighbours (when they are closer than suppression_distance);
+//   5. `planes` = every remaining low-curvature point, voxel-downsampled (plane_voxel_size),
+//      `edges` likewise downsampled with edge_voxel_size.
+// Per-point relative time: the scan's time channel when present, else from the azimuth swept
+// since the ring's first point (fraction of a revolution times scan_period).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "plucker/geometry/point_cloud.h"
+
+namespace plucker {
+namespace lidar {
+
+struct FeatureOptions {
+  double min_range = 2.0;             // m; closer returns (vehicle, noise) are dropped
+  double max_range = 100.0;           // m
+  int curvature_half_window = 5;      // k: neighbours on each side along the ring
+  int sectors = 6;                    // equal-count sectors per ring
+  int max_sharp_per_sector = 2;       // strongest edge points per sector
+  int max_edges_per_sector = 20;      // edge points (sharp + less sharp) per sector
+  int max_flat_per_sector = 4;        // strongest plane points per sector
+  double edge_threshold = 0.1;        // m^2; curvature above -> edge candidate
+  double plane_threshold = 0.1;       // m^2; curvature below -> plane candidate
+  double suppression_distance = 0.25;  // m; neighbours closer than this to a pick are suppressed
+  double occlusion_depth_jump = 0.1;  // relative depth jump |d_i - d_j| / min(d) => occlusion test
+  double occlusion_max_gap = 0.3;     // m; the jump only counts if the points are angularly adjacent
+                                      // (their distance after scaling to the same depth is below)
+  double parallel_beam_ratio = 0.0002;  // LOAM: |p_i - p_{i+-1}|^2 > ratio * |p_i|^2 on both sides
+  double edge_voxel_size = 0.2;       // m; downsampling of `edges` (0 = off)
+  double plane_voxel_size = 0.4;      // m; downsampling of `planes` (0 = off)
+  double scan_period = 0.1;           // s; one revolution (for time from azimuth)
+  bool compute_times = false;         // fill the *_times vectors (needed by deskew)
+};
+
+struct FeatureStats {
+  int input_points = 0;
+  int valid_points = 0;  // after range gating and NaN removal
+  int rings = 0;         // rings with enough points
+  int occluded_rejected = 0;
+  int parallel_rejected = 0;
+  int sharp = 0, edges = 0, flat = 0, planes = 0;
+  bool times_from_azimuth = false;
+};
+
+struct ScanFeatures {
+  std::vector<Eigen::Vector3d> sharp;  // strongest edge points (subset of the edge picks)
+  std::vector<Eigen::Vector3d> edges;  // all edge points (sharp + less sharp), downsampled
+  std::vector<Eigen::Vector3d> flat;   // strongest plane points
+  std::vector<Eigen::Vector3d> planes;  // flat + less flat, downsampled
+  std::vector<double> edge_times;      // seconds from scan start, one per `edges` (if computed)
+  std::vector<double> plane_times;     // one per `planes` (if computed)
+  FeatureStats stats;
+};
+
+// Extracts features. `scan.ring` must be filled (same size as points, 0..N-1; see
+// lidar/sensor_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be in firing order. Returns
+// false with `*error` set when the scan is unusable (no rings, mismatched channel sizes, fewer
+// than 2k+1 valid points on every ring). Non-finite points are skipped (counted as invalid).
+bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
+                     std::string* error);
+
+// Keeps one point per cubic voxel of side `voxel_size` (the first seen), preserving order. The
+// optional `times` vector is filtered alongside. voxel_size <= 0 leaves the input unchanged.
+void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
+                     std::vector<double>* times = nullptr);
+
+}  // namespace lidar
+}  // namespace plucker

@@ -1,0 +1,189 @@
+#include "plucker/lidar/features.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "plucker/lidar/scan_test_utils.h"
+
+namespace plucker {
+namespace lidar {
+namespace {
+
+// One horizontal ring (ring 0) sampled every `step_deg` of azimuth through `range_of(azimuth)`.
+template <typename F>
+LidarScan Ring(double step_deg, F range_of) {
+  LidarScan scan;
+  const int n = static_cast<int>(std::round(360.0 / step_deg));
+  for (int i = 0; i < n; ++i) {
+    const double az = M_PI - 2.0 * M_PI * i / n;
+    const double r = range_of(az);
+    scan.points.emplace_back(r * std::cos(az), r * std::sin(az), 0.0);
+    scan.ring.push_back(0);
+  }
+  return scan;
+}
+
+// A square room seen from its centre: walls at |x| = 10 and |y| = 10 (corners at 45 deg).
+double SquareRoom(double az) {
+  return 10.0 / std::max(std::abs(std::cos(az)), std::abs(std::sin(az)));
+}
+
+bool NearCorner(const Eigen::Vector3d& p, double tol) {
+  return std::abs(std::abs(p.x()) - 10.0) < tol && std::abs(std::abs(p.y()) - 10.0) < tol;
+}
+
+TEST(FeaturesTest, CornersGiveEdgesAndWallsGivePlanes) {
+  const LidarScan scan = Ring(0.2, SquareRoom);
+  FeatureOptions options;
+  options.edge_voxel_size = 0.0;
+  options.plane_voxel_size = 0.0;
+  options.sectors = 4;
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
+  EXPECT_EQ(f.stats.rings, 1);
+  // The four corners are the strongest edges; every sharp point lies at a corner.
+  ASSERT_GE(f.sharp.size(), 4u);
+  for (const auto& p : f.sharp) EXPECT_TRUE(NearCorner(p, 0.5)) << p.transpose();
+  int corners_found = 0;
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector3d corner(c % 2 ? 10 : -10, c / 2 ? 10 : -10, 0);
+    for (const auto& p : f.sharp) {
+      if ((p - corner).norm() < 0.5) {
+        ++corners_found;
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(corners_found, 4);
+  // Flat points lie on walls, away from the corners.
+  ASSERT_GE(f.flat.size(), 8u);
+  for (const auto& p : f.flat) {
+    EXPECT_NEAR(std::max(std::abs(p.x()), std::abs(p.y())), 10.0, 1e-9);
+    EXPECT_FALSE(NearCorner(p, 0.5)) << p.transpose();
+  }
+  EXPECT_GT(f.planes.size(), f.flat.size());
+  for (const auto& p : f.planes) EXPECT_NEAR(std::max(std::abs(p.x()), std::abs(p.y())), 10.0, 1e-9);
+}
+
+TEST(FeaturesTest, OccludedSideOfADepthJumpIsRejected) {
+  // A wall at 20 m with a 2 m wide pillar at 5 m in front of it (azimuth 80..100 deg... here a
+  // narrow sector around +90 deg).
+  auto range_of = [](double az) {
+    const double pillar_half = 6.0 * M_PI / 180.0;
+    if (std::abs(az - M_PI / 2) < pillar_half) return 5.0;
+    return 20.0;
+  };
+  const LidarScan scan = Ring(0.2, range_of);
+  FeatureOptions options;
+  options.edge_voxel_size = 0.0;
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
+  EXPECT_GE(f.stats.occluded_rejected, 2 * options.curvature_half_window);
+  // No edge is reported on the far wall next to the pillar (the occluded side), while the
+  // pillar's own boundary points (5 m) are edges.
+  bool pillar_edge = false;
+  for (const auto& p : f.edges) {
+    const double r = p.norm();
+    if (std::abs(r - 5.0) < 1e-6) pillar_edge = true;
+    const double az = std::atan2(p.y(), p.x());
+    if (std::abs(r - 20.0) < 1e-6) {
+      EXPECT_GT(std::abs(az - M_PI / 2), 6.0 * M_PI / 180.0 + 6 * 0.2 * M_PI / 180.0)
+          << "edge on the occluded wall at azimuth " << az;
+    }
+  }
+  EXPECT_TRUE(pillar_edge);
+}
+
+TEST(FeaturesTest, SurfaceParallelToTheBeamIsRejected) {
+  // A wall nearly parallel to the beams: the line y = 1 seen at grazing angles far along x.
+  LidarScan scan;
+  for (int i = 0; i < 400; ++i) {
+    const double x = 2.0 + i * (i < 200 ? 0.05 : 2.0);  // the far part is sampled very sparsely
+    scan.points.emplace_back(x, 1.0, 0.0);
+    scan.ring.push_back(0);
+  }
+  FeatureOptions options;
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
+  EXPECT_GT(f.stats.parallel_rejected, 100);
+}
+
+TEST(FeaturesTest, RangeGatingNaNsAndBadInput) {
+  LidarScan scan = Ring(0.5, SquareRoom);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  scan.points[10] = Eigen::Vector3d(nan, 0, 0);
+  scan.points[20] = Eigen::Vector3d(0.1, 0.1, 0);  // closer than min_range
+  FeatureOptions options;
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
+  EXPECT_EQ(f.stats.valid_points, static_cast<int>(scan.size()) - 2);
+  for (const auto& p : f.planes) EXPECT_TRUE(p.allFinite());
+
+  LidarScan no_rings = scan;
+  no_rings.ring.clear();
+  EXPECT_FALSE(ExtractFeatures(no_rings, options, &f, &error));
+  EXPECT_NE(error.find("ring"), std::string::npos);
+  EXPECT_FALSE(ExtractFeatures(LidarScan(), options, &f, &error));
+  LidarScan far = scan;
+  for (auto& p : far.points) p *= 1000.0;  // everything beyond max_range
+  EXPECT_FALSE(ExtractFeatures(far, options, &f, &error));
+  EXPECT_NE(error.find("valid"), std::string::npos);
+}
+
+TEST(FeaturesTest, TimesFromAzimuthSpanOneRevolution) {
+  const LidarScan scan = Ring(0.2, SquareRoom);
+  FeatureOptions options;
+  options.compute_times = true;
+  options.plane_voxel_size = 0.0;
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
+  EXPECT_TRUE(f.stats.times_from_azimuth);
+  ASSERT_EQ(f.plane_times.size(), f.planes.size());
+  double lo = 1, hi = 0;
+  for (std::size_t i = 0; i < f.planes.size(); ++i) {
+    // The ring starts at azimuth pi and turns clockwise: t = period * swept / (2 pi).
+    const double az = std::atan2(f.planes[i].y(), f.planes[i].x());
+    double swept = M_PI - az;
+    if (swept < 0) swept += 2 * M_PI;
+    EXPECT_NEAR(f.plane_times[i], 0.1 * swept / (2 * M_PI), 1e-6);
+    lo = std::min(lo, f.plane_times[i]);
+    hi = std::max(hi, f.plane_times[i]);
+  }
+  EXPECT_LT(lo, 0.005);
+  EXPECT_GT(hi, 0.095);
+}
+
+TEST(FeaturesTest, VoxelDownsampleKeepsOnePointPerVoxel) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<double> times;
+  for (int i = 0; i < 100; ++i) {
+    pts.emplace_back(0.01 * i, 0.0, 0.0);  // 1 m of points every 1 cm
+    times.push_back(i);
+  }
+  VoxelDownsample(0.25, &pts, &times);
+  EXPECT_EQ(pts.size(), 4u);
+  EXPECT_EQ(times.size(), 4u);
+  EXPECT_DOUBLE_EQ(times[1], 25.0);
+}
+
+TEST(FeaturesTest, SyntheticUrbanScanHasEdgesAndPlanes) {
+  test::ScanPattern pattern;
+  const LidarScan scan = test::MakeScan(test::UrbanScene(), SE3d(), pattern);
+  ScanFeatures f;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(scan, FeatureOptions(), &f, &error)) << error;
+  EXPECT_EQ(f.stats.rings, pattern.rings);
+  EXPECT_GT(f.stats.sharp, 50);
+  EXPECT_GT(f.stats.planes, 1000);
+}
+
+}  // namespace
+}  // namespace lidar
+}  // namespace plucker

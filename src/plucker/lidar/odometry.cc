@@ -1,0 +1,320 @@
+#include "plucker/lidar/odometry.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <ctime>
+#include <optional>
+#include <stdexcept>
+
+#include "plucker/factors/lidar_factors.h"
+#include "plucker/factors/pose_manifold.h"
+#include "plucker/lidar/deskew.h"
+#include "plucker/lidar/sensor_model.h"
+
+namespace plucker {
+namespace lidar {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+struct PlaneMatch {
+  Eigen::Vector3d p_s, m_w, q_w;
+};
+struct EdgeMatch {
+  Eigen::Vector3d p_s, a_w, u_w;
+};
+
+// Mean and covariance of a few points, eigen-decomposed (ascending eigenvalues).
+struct LocalFit {
+  Eigen::Vector3d mean;
+  Eigen::Vector3d eigenvalues;
+  Eigen::Matrix3d eigenvectors;
+};
+LocalFit Fit(const std::vector<Eigen::Vector3d>& pts) {
+  LocalFit fit;
+  fit.mean.setZero();
+  for (const auto& p : pts) fit.mean += p;
+  fit.mean /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Vector3d d = p - fit.mean;
+    cov.noalias() += d * d.transpose();
+  }
+  cov /= static_cast<double>(pts.size());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(cov);
+  fit.eigenvalues = solver.eigenvalues();
+  fit.eigenvectors = solver.eigenvectors();
+  return fit;
+}
+
+// Every `stride`-th element so that at most `cap` remain.
+void StrideSample(int cap, std::vector<Eigen::Vector3d>* v) {
+  if (cap <= 0 || static_cast<int>(v->size()) <= cap) return;
+  const double step = static_cast<double>(v->size()) / cap;
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(cap);
+  for (int i = 0; i < cap; ++i) out.push_back((*v)[static_cast<std::size_t>(i * step)]);
+  v->swap(out);
+}
+
+}  // namespace
+
+double ThreadCpuMs() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+
+RobustLoss ParseRobustLoss(const std::string& name) {
+  if (name == "huber") return RobustLoss::kHuber;
+  if (name == "cauchy") return RobustLoss::kCauchy;
+  if (name == "none") return RobustLoss::kNone;
+  throw std::invalid_argument("unknown loss '" + name + "' (huber, cauchy, none)");
+}
+DeskewMode ParseDeskewMode(const std::string& name) {
+  if (name == "auto") return DeskewMode::kAuto;
+  if (name == "on") return DeskewMode::kOn;
+  if (name == "off") return DeskewMode::kOff;
+  throw std::invalid_argument("unknown deskew mode '" + name + "' (auto, on, off)");
+}
+RingSource ParseRingSource(const std::string& name) {
+  if (name == "auto") return RingSource::kAuto;
+  if (name == "scan_order") return RingSource::kScanOrder;
+  if (name == "elevation") return RingSource::kElevation;
+  if (name == "auto_elevation") return RingSource::kAutoElevation;
+  throw std::invalid_argument("unknown ring source '" + name +
+                              "' (auto, scan_order, elevation, auto_elevation)");
+}
+
+class LidarOdometry::Impl {
+ public:
+  PoseManifold manifold;
+  std::unique_ptr<ceres::LossFunction> loss;
+  std::optional<SensorModel> sensor;
+  std::vector<Eigen::Vector3d> neighbours;
+  std::vector<PlaneMatch> planes;
+  std::vector<EdgeMatch> edges;
+  int frames_since_cleanup = 0;
+};
+
+LidarOdometry::LidarOdometry(const LidarOdometryOptions& options)
+    : options_(options),
+      edge_map_(options.edge_map),
+      plane_map_(options.plane_map),
+      impl_(std::make_unique<Impl>()) {
+  switch (options_.loss) {
+    case RobustLoss::kHuber:
+      impl_->loss = std::make_unique<ceres::HuberLoss>(options_.loss_scale);
+      break;
+    case RobustLoss::kCauchy:
+      impl_->loss = std::make_unique<ceres::CauchyLoss>(options_.loss_scale);
+      break;
+    case RobustLoss::kNone:
+      break;
+  }
+  if (options_.sensor != "auto") impl_->sensor = FromName(options_.sensor);
+}
+
+LidarOdometry::~LidarOdometry() = default;
+
+SE3d LidarOdometry::Predict() const {
+  if (poses_.empty()) return SE3d();
+  if (poses_.size() < 2 || !options_.constant_velocity) return poses_.back();
+  const SE3d& last = poses_.back();
+  return last * (poses_[poses_.size() - 2].Inverse() * last);
+}
+
+FrameResult LidarOdometry::SkipFrame(const std::string& reason) {
+  FrameResult result;
+  result.ok = false;
+  result.error = reason;
+  result.T_w_s = Predict();
+  poses_.push_back(result.T_w_s);
+  result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
+  return result;
+}
+
+FrameResult LidarOdometry::ProcessScan(const LidarScan& scan) {
+  return ProcessScan(LidarScan(scan));
+}
+
+FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
+  const auto t_start = Clock::now();
+  const double cpu_start = ThreadCpuMs();
+  FrameResult result;
+  const LidarOdometryOptions& o = options_;
+
+  // 1. Rings.
+  double t0 = ThreadCpuMs();
+  const bool has_ring = scan.ring.size() == scan.size();
+  if (o.ring_source == RingSource::kScanOrder || (o.ring_source == RingSource::kAuto && !has_ring)) {
+    AssignRingsFromScanOrder(&scan);
+  } else if (o.ring_source == RingSource::kElevation ||
+             (o.ring_source == RingSource::kAutoElevation && !has_ring)) {
+    if (!impl_->sensor) impl_->sensor = AutoDetectSensor(scan);
+    scan.ring.clear();
+    AssignRings(&scan, *impl_->sensor);
+  }
+  result.timing.rings = (ThreadCpuMs() - t0);
+
+  // 2. Features (+ deskew).
+  t0 = ThreadCpuMs();
+  const bool deskew = o.deskew == DeskewMode::kOn ||
+                      (o.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() &&
+                       !scan.empty());
+  FeatureOptions feature_options = o.features;
+  feature_options.compute_times = deskew;
+  ScanFeatures features;
+  std::string error;
+  if (!ExtractFeatures(scan, feature_options, &features, &error)) {
+    FrameResult skipped = SkipFrame(error);
+    skipped.timing.total = MsSince(t_start);
+    skipped.timing.cpu = ThreadCpuMs() - cpu_start;
+    return skipped;
+  }
+  result.features = features.stats;
+  const SE3d T_pred = Predict();
+  if (deskew && poses_.size() >= 2) {
+    const SE3d motion = poses_[poses_.size() - 2].Inverse() * poses_.back();
+    DeskewPoints(motion, o.features.scan_period, features.edge_times, &features.edges);
+    DeskewPoints(motion, o.features.scan_period, features.plane_times, &features.planes);
+    result.deskewed = true;
+  }
+  std::vector<Eigen::Vector3d>& edge_pts = features.edges;
+  std::vector<Eigen::Vector3d>& plane_pts = features.planes;
+  if (!o.use_edges) edge_pts.clear();
+  StrideSample(o.max_edge_points, &edge_pts);
+  StrideSample(o.max_plane_points, &plane_pts);
+  result.edge_points = static_cast<int>(edge_pts.size());
+  result.plane_points = static_cast<int>(plane_pts.size());
+  result.timing.features = (ThreadCpuMs() - t0);
+
+  SE3d T = T_pred;
+  const bool first = poses_.empty() || plane_map_.NumPoints() + edge_map_.NumPoints() <
+                                           static_cast<std::size_t>(o.min_correspondences);
+  bool registered = first;
+  if (!first) {
+    double params[7];
+    const int k = std::min(o.num_neighbours, 16);
+    const double max_d = std::min(o.max_correspondence_distance, plane_map_.options().voxel_size);
+    for (int round = 0; round < o.association_rounds; ++round) {
+      // 3. Correspondences.
+      t0 = ThreadCpuMs();
+      const Eigen::Matrix3d R = T.RotationMatrix();
+      const Eigen::Vector3d t = T.translation();
+      impl_->planes.clear();
+      impl_->edges.clear();
+      for (const Eigen::Vector3d& p_s : plane_pts) {
+        const Eigen::Vector3d p_w = R * p_s + t;
+        if (plane_map_.KNearest(p_w, k, max_d, &impl_->neighbours) < k) continue;
+        const LocalFit fit = Fit(impl_->neighbours);
+        const Eigen::Vector3d m = fit.eigenvectors.col(0);
+        bool planar = true;
+        for (const auto& q : impl_->neighbours) {
+          if (std::abs(m.dot(q - fit.mean)) > o.plane_max_residual) {
+            planar = false;
+            break;
+          }
+        }
+        if (planar) impl_->planes.push_back({p_s, m, fit.mean});
+      }
+      const double edge_max_d = std::min(max_d, edge_map_.options().voxel_size);
+      for (const Eigen::Vector3d& p_s : edge_pts) {
+        const Eigen::Vector3d p_w = R * p_s + t;
+        if (edge_map_.KNearest(p_w, k, edge_max_d, &impl_->neighbours) < k) continue;
+        const LocalFit fit = Fit(impl_->neighbours);
+        if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) continue;
+        impl_->edges.push_back({p_s, fit.mean, fit.eigenvectors.col(2)});
+      }
+      result.plane_correspondences = static_cast<int>(impl_->planes.size());
+      result.edge_correspondences = static_cast<int>(impl_->edges.size());
+      result.timing.correspondences += (ThreadCpuMs() - t0);
+      if (result.plane_correspondences + result.edge_correspondences < o.min_correspondences) {
+        registered = false;
+        error = "too few correspondences (" +
+                std::to_string(result.plane_correspondences + result.edge_correspondences) + ")";
+        break;
+      }
+
+      // 4. Solve.
+      t0 = ThreadCpuMs();
+      ceres::Problem::Options problem_options;
+      problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(problem_options);
+      T.ToParameters(params);
+      problem.AddParameterBlock(params, 7, &impl_->manifold);
+      ceres::LossFunction* loss = impl_->loss.get();
+      for (const PlaneMatch& m : impl_->planes)
+        problem.AddResidualBlock(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma),
+                                 loss, params);
+      for (const EdgeMatch& m : impl_->edges)
+        problem.AddResidualBlock(
+            PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w, m.a_w - 0.1 * m.u_w, o.edge_sigma),
+            loss, params);
+      ceres::Solver::Options solver_options;
+      solver_options.linear_solver_type = ceres::DENSE_QR;
+      solver_options.max_num_iterations = o.max_iterations;
+      solver_options.num_threads = o.num_threads;
+      solver_options.logging_type = ceres::SILENT;
+      solver_options.minimizer_progress_to_stdout = false;
+      ceres::Solver::Summary summary;
+      ceres::Solve(solver_options, &problem, &summary);
+      result.solver_iterations += static_cast<int>(summary.iterations.size());
+      result.final_cost = summary.final_cost;
+      SE3d T_solved = SE3d::FromParameters(params);
+      if (!T_solved.translation().allFinite() || !T_solved.rotation().coeffs().allFinite()) {
+        registered = false;
+        error = "solver diverged";
+        result.timing.solve += (ThreadCpuMs() - t0);
+        break;
+      }
+
+      // Degeneracy at the solution; keep the prediction along poorly constrained directions.
+      NormalEquations normal;
+      for (const PlaneMatch& m : impl_->planes) normal.AddPlane(T_solved, m.p_s, m.m_w, o.plane_sigma);
+      for (const EdgeMatch& m : impl_->edges) normal.AddEdge(T_solved, m.p_s, m.u_w, o.edge_sigma);
+      result.degeneracy = normal.Analyse(o.degeneracy_threshold);
+      if (o.handle_degeneracy)
+        T_solved = RemapSolution(T_pred, T_solved, result.degeneracy, o.degeneracy_threshold);
+      T = T_solved;
+      registered = true;
+      result.timing.solve += (ThreadCpuMs() - t0);
+    }
+  }
+
+  // 5. Map update.
+  t0 = ThreadCpuMs();
+  result.ok = registered;
+  result.error = registered ? std::string() : error;
+  result.T_w_s = registered ? T : T_pred;
+  if (registered || edge_map_.NumPoints() + plane_map_.NumPoints() <
+                        static_cast<std::size_t>(o.min_correspondences)) {
+    const Eigen::Matrix3d R = result.T_w_s.RotationMatrix();
+    const Eigen::Vector3d t = result.T_w_s.translation();
+    for (auto& p : edge_pts) p = R * p + t;
+    for (auto& p : plane_pts) p = R * p + t;
+    edge_map_.AddPoints(edge_pts);
+    plane_map_.AddPoints(plane_pts);
+  }
+  if (++impl_->frames_since_cleanup >= std::max(1, o.map_cleanup_every)) {
+    impl_->frames_since_cleanup = 0;
+    edge_map_.RemoveFar(result.T_w_s.translation());
+    plane_map_.RemoveFar(result.T_w_s.translation());
+  }
+  poses_.push_back(result.T_w_s);
+  result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
+  result.timing.map_update = (ThreadCpuMs() - t0);
+  result.timing.total = MsSince(t_start);
+  result.timing.cpu = ThreadCpuMs() - cpu_start;
+  return result;
+}
+
+}  // namespace lidar
+}  // namespace plucker

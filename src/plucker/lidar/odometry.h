@@ -1,0 +1,131 @@
+// LOAM-style LiDAR odometry: features (lidar/features.h), optional deskew, scan-to-map
+// registration against a bounded local voxel map with the analytic point-to-edge and
+// point-to-plane factors (factors/lidar_factors.h) on the pose manifold, a robust loss, a
+// constant-velocity initial guess, a few re-association rounds, and degeneracy handling
+// (lidar/degeneracy.h). No file I/O: scans in, poses and statistics out.
+//
+// Per scan:
+//   1. rings (kept from the scan, else from the firing order or the sensor's elevation table);
+//   2. features; when deskewing, the feature points are moved to the scan-start frame with the
+//      constant-velocity motion;
+//   3. prediction T_pred = T_{k-1} (T_{k-2}^-1 T_{k-1});
+//   4. `association_rounds` times: transform the features with the current estimate, find
+//      correspondences in the local maps (5 nearest neighbours; edge if the largest eigenvalue of
+//      their covariance exceeds edge_eigen_ratio times the middle one, plane if every neighbour
+//      lies within plane_max_residual of the fitted plane), solve with Ceres (a few iterations,
+//      DENSE_QR on the 6-dof pose), then remap the solution along degenerate directions;
+//   5. the downsampled features, in the world frame, enter the maps; voxels farther than
+//      map max_distance from the sensor are dropped.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plucker/geometry/point_cloud.h"
+#include "plucker/geometry/se3.h"
+#include "plucker/lidar/degeneracy.h"
+#include "plucker/lidar/features.h"
+#include "plucker/lidar/voxel_map.h"
+
+namespace plucker {
+namespace lidar {
+
+enum class RingSource {
+  kAuto,        // the scan's ring field; if absent, from the firing order (KITTI .bin)
+  kScanOrder,   // always from the firing order
+  kElevation,   // from the elevation table of `sensor` (auto-detected on the first scan if "auto")
+  kAutoElevation,  // the scan's ring field; if absent, from the elevation table (PCD without ring)
+};
+
+enum class DeskewMode { kAuto, kOn, kOff };  // kAuto: on when the scan has per-point time
+enum class RobustLoss { kHuber, kCauchy, kNone };
+
+struct LidarOdometryOptions {
+  FeatureOptions features;
+  RingSource ring_source = RingSource::kAuto;
+  std::string sensor = "auto";  // hdl64 | vlp32 | vlp16 | auto (for kElevation)
+  DeskewMode deskew = DeskewMode::kAuto;
+
+  VoxelMapOptions edge_map{1.0, 10, 0.2, 100.0};   // voxel, cap, spacing, radius
+  VoxelMapOptions plane_map{1.0, 20, 0.3, 100.0};
+  int num_neighbours = 5;                   // KNN for each correspondence (<= 16)
+  double max_correspondence_distance = 1.0;  // m; farthest neighbour allowed (<= voxel size)
+  double edge_eigen_ratio = 3.0;            // lambda_max > ratio * lambda_mid for a line
+  double plane_max_residual = 0.05;         // m; every neighbour within this of the plane
+  double edge_sigma = 0.5;                  // m; residual scale of edges (view-dependent)
+  double plane_sigma = 0.05;                // m; residual scale of planes
+  RobustLoss loss = RobustLoss::kHuber;
+  double loss_scale = 2.0;                  // in sigma units (Huber/Cauchy parameter)
+  bool use_edges = true;
+  int association_rounds = 2;               // re-association rounds per scan
+  int max_iterations = 4;                   // Ceres iterations per round
+  int max_edge_points = 1000;               // cap on edge points used per scan (stride sampling)
+  int max_plane_points = 3000;              // cap on plane points used per scan
+  int min_correspondences = 30;             // fewer -> the scan keeps the predicted pose
+  double degeneracy_threshold = 0.02;       // on eigenvalues of H/N (see degeneracy.h)
+  bool handle_degeneracy = true;            // remap the solution along degenerate directions
+  bool constant_velocity = true;            // else the prediction is the previous pose
+  int map_cleanup_every = 10;               // frames between RemoveFar calls
+  int num_threads = 1;                      // Ceres threads
+};
+
+// Milliseconds. The stages are measured in CPU time of the calling thread (meaningful on a
+// loaded machine and with num_threads = 1); `total` is wall-clock, `cpu` the thread CPU time.
+struct FrameTimings {
+  double rings = 0, features = 0, correspondences = 0, solve = 0, map_update = 0, total = 0;
+  double cpu = 0;
+};
+
+// CPU time consumed by the calling thread, in milliseconds (robust to a loaded machine).
+double ThreadCpuMs();
+
+struct FrameResult {
+  bool ok = false;           // false: the pose is the prediction (see `error`)
+  std::string error;         // why the frame was not registered
+  SE3d T_w_s;                // scan pose (frame 0 = identity)
+  FeatureStats features;
+  int edge_points = 0, plane_points = 0;                     // features used
+  int edge_correspondences = 0, plane_correspondences = 0;   // of the last round
+  int solver_iterations = 0;
+  double final_cost = 0.0;
+  DegeneracyInfo degeneracy;
+  bool deskewed = false;
+  std::size_t map_points = 0;
+  FrameTimings timing;
+};
+
+class LidarOdometry {
+ public:
+  explicit LidarOdometry(const LidarOdometryOptions& options = LidarOdometryOptions());
+  ~LidarOdometry();
+
+  // Registers one scan; the copy is needed when rings must be assigned (use the rvalue overload
+  // to avoid it).
+  FrameResult ProcessScan(const LidarScan& scan);
+  FrameResult ProcessScan(LidarScan&& scan);
+  // Records a frame that could not be read: its pose is the constant-velocity prediction.
+  FrameResult SkipFrame(const std::string& reason);
+
+  const std::vector<SE3d>& poses() const { return poses_; }
+  const VoxelMap& edge_map() const { return edge_map_; }
+  const VoxelMap& plane_map() const { return plane_map_; }
+  const LidarOdometryOptions& options() const { return options_; }
+
+ private:
+  class Impl;
+  SE3d Predict() const;
+  LidarOdometryOptions options_;
+  VoxelMap edge_map_, plane_map_;
+  std::vector<SE3d> poses_;  // one per processed or skipped frame
+  std::unique_ptr<Impl> impl_;
+};
+
+// Parses the names used in config files ("huber", "cauchy", "none"; "auto", "on", "off";
+// "auto", "scan_order", "elevation", "auto_elevation"); throw std::invalid_argument otherwise.
+RobustLoss ParseRobustLoss(const std::string& name);
+DeskewMode ParseDeskewMode(const std::string& name);
+RingSource ParseRingSource(const std::string& name);
+
+}  // namespace lidar
+}  // namespace plucker

@@ -1,0 +1,221 @@
+#include "plucker/lidar/sensor_model.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace plucker {
+namespace lidar {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+double Elevation(const Eigen::Vector3d& p) { return std::atan2(p.z(), p.head<2>().norm()); }
+
+std::vector<double> SortedRadians(std::vector<double> deg) {
+  std::sort(deg.begin(), deg.end());
+  for (double& d : deg) d *= kDeg;
+  return deg;
+}
+
+// Wraps an angle difference into (-pi, pi].
+double WrapAngle(double a) {
+  while (a > kPi) a -= 2 * kPi;
+  while (a <= -kPi) a += 2 * kPi;
+  return a;
+}
+
+int CountRings(const std::vector<int>& ring) {
+  std::set<int> distinct;
+  for (int r : ring) {
+    if (r >= 0) distinct.insert(r);
+  }
+  return static_cast<int>(distinct.size());
+}
+
+}  // namespace
+
+int SensorModel::RingFromElevation(double e) const {
+  const std::vector<double>& el = elevation_rad;
+  if (el.empty() || !std::isfinite(e)) return -1;
+  if (el.size() == 1) return std::abs(e - el[0]) < 1.0 * kDeg ? 0 : -1;
+  const double half_low = 0.5 * (el[1] - el[0]);
+  const double half_high = 0.5 * (el.back() - el[el.size() - 2]);
+  if (e < el.front() - half_low || e > el.back() + half_high) return -1;
+  const auto it = std::lower_bound(el.begin(), el.end(), e);
+  if (it == el.begin()) return 0;
+  if (it == el.end()) return static_cast<int>(el.size()) - 1;
+  const int hi = static_cast<int>(it - el.begin());
+  return (e - el[hi - 1] <= el[hi] - e) ? hi - 1 : hi;
+}
+
+SensorModel HDL64() {
+  SensorModel m;
+  m.name = "hdl64";
+  std::vector<double> deg;
+  for (int i = 0; i < 32; ++i) deg.push_back(2.0 - i * (2.0 + 8.33) / 31.0);     // upper block
+  for (int i = 0; i < 32; ++i) deg.push_back(-8.83 - i * (24.33 - 8.83) / 31.0);  // lower block
+  m.elevation_rad = SortedRadians(deg);
+  m.min_range = 0.9;
+  m.max_range = 120.0;
+  m.azimuth_steps = 2083;
+  m.rate_hz = 10.0;
+  return m;
+}
+
+SensorModel VLP32() {
+  SensorModel m;
+  m.name = "vlp32";
+  // VLP-32C vertical angles (degrees) from the manufacturer's table, in laser-id order.
+  m.elevation_rad = SortedRadians({-25.0,  -1.0,   -1.667, -15.639, -11.31, 0.0,    -0.667, -8.843,
+                                   -7.254, 0.333,  -0.333, -6.148,  -5.333, 1.333,  0.667,  -4.0,
+                                   -4.667, 1.667,  1.0,    -3.667,  -3.333, 3.333,  2.333,  -2.667,
+                                   -3.0,   7.0,    4.667,  -2.333,  -2.0,   15.0,   10.333, -1.333});
+  m.min_range = 0.5;
+  m.max_range = 200.0;
+  m.azimuth_steps = 1800;
+  m.rate_hz = 10.0;
+  return m;
+}
+
+SensorModel VLP16() {
+  SensorModel m;
+  m.name = "vlp16";
+  std::vector<double> deg;
+  for (int i = 0; i < 16; ++i) deg.push_back(-15.0 + 2.0 * i);
+  m.elevation_rad = SortedRadians(deg);
+  m.min_range = 0.5;
+  m.max_range = 100.0;
+  m.azimuth_steps = 1800;
+  m.rate_hz = 10.0;
+  return m;
+}
+
+SensorModel FromName(const std::string& name) {
+  std::string n = name;
+  for (char& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (n == "hdl64") return HDL64();
+  if (n == "vlp32") return VLP32();
+  if (n == "vlp16") return VLP16();
+  throw std::invalid_argument("unknown sensor '" + name + "' (expected hdl64, vlp32 or vlp16)");
+}
+
+RingAssignmentStats AssignRings(LidarScan* scan, const SensorModel& model) {
+  RingAssignmentStats stats;
+  if (scan->ring.size() == scan->size() && !scan->empty()) {
+    stats.rings_found = CountRings(scan->ring);
+    stats.unassigned = static_cast<std::size_t>(std::count(scan->ring.begin(), scan->ring.end(), -1));
+    return stats;
+  }
+  scan->ring.resize(scan->size());
+  for (std::size_t i = 0; i < scan->size(); ++i) {
+    scan->ring[i] = model.RingFromElevation(Elevation(scan->points[i]));
+    if (scan->ring[i] < 0) ++stats.unassigned;
+  }
+  stats.rings_found = CountRings(scan->ring);
+  return stats;
+}
+
+RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOptions& options) {
+  RingAssignmentStats stats;
+  const std::size_t n = scan->size();
+  scan->ring.assign(n, 0);
+  if (n == 0) return stats;
+  std::vector<double> az(n);
+  for (std::size_t i = 0; i < n; ++i) az[i] = std::atan2(scan->points[i].y(), scan->points[i].x());
+  // Sweep direction: the sign of the typical small step between consecutive points.
+  double sum = 0.0;
+  for (std::size_t i = 1; i < n; ++i) {
+    const double d = WrapAngle(az[i] - az[i - 1]);
+    if (std::abs(d) < 0.1) sum += d;
+  }
+  const double dir = sum >= 0.0 ? 1.0 : -1.0;
+  // Each beam sweeps one turn starting at a seam azimuth a0 (KITTI: the front, az ~ 0). In the
+  // angle u = dir * (az - a0) wrapped into [0, 2 pi), a ring ends where u drops by more than the
+  // threshold once the current ring has reached u > pi (so that jitter around the seam does not
+  // split a ring, and rings with few returns still end at the seam). Pass 1 takes a0 from the first point; pass 2 moves a0 just
+  // before the earliest ring start found, so that no ring start falls behind the seam.
+  auto split = [&](double a0) {
+    std::vector<std::size_t> starts = {0};
+    auto u = [&](std::size_t i) {
+      double v = std::fmod(dir * (az[i] - a0), 2 * kPi);
+      return v < 0 ? v + 2 * kPi : v;
+    };
+    double reached = u(0), prev = u(0);  // largest u of the current ring
+    for (std::size_t i = 1; i < n; ++i) {
+      const double cur = u(i);
+      if (prev - cur > options.wrap_threshold_rad && reached > kPi &&
+          i - starts.back() >= static_cast<std::size_t>(options.min_points_per_ring)) {
+        starts.push_back(i);
+        reached = cur;
+      } else {
+        reached = std::max(reached, cur);
+      }
+      prev = cur;
+    }
+    return starts;
+  };
+  std::vector<std::size_t> starts = split(az[0]);
+  double earliest = 0.0;  // offset of the earliest ring start from az[0], in sweep direction
+  for (std::size_t s : starts) earliest = std::min(earliest, dir * WrapAngle(az[s] - az[0]));
+  if (starts.size() > 1) starts = split(az[0] + dir * (earliest - 1e-6));
+  const int rings = static_cast<int>(starts.size());
+  starts.push_back(n);
+  std::vector<double> mean_elevation(rings, 0.0);
+  for (int r = 0; r < rings; ++r) {
+    for (std::size_t i = starts[r]; i < starts[r + 1]; ++i) {
+      scan->ring[i] = r;
+      mean_elevation[r] += Elevation(scan->points[i]);
+    }
+    mean_elevation[r] /= static_cast<double>(starts[r + 1] - starts[r]);
+  }
+  // Ring 0 must be the lowest beam: flip when the stream runs from the top beam down.
+  if (rings > 1 && mean_elevation.front() > mean_elevation.back()) {
+    for (int& r : scan->ring) r = rings - 1 - r;
+  }
+  stats.rings_found = rings;
+  return stats;
+}
+
+SensorModel AutoDetectSensor(const LidarScan& scan, double* confidence) {
+  std::vector<double> el;
+  el.reserve(scan.size());
+  for (const Eigen::Vector3d& p : scan.points) {
+    if (p.head<2>().norm() > 1.0) el.push_back(Elevation(p) / kDeg);
+  }
+  if (el.size() < 100) {
+    if (confidence) *confidence = 0.0;
+    return VLP16();
+  }
+  std::sort(el.begin(), el.end());
+  const double lo = el[static_cast<std::size_t>(0.002 * el.size())];
+  const double hi = el[static_cast<std::size_t>(0.998 * (el.size() - 1))];
+  if (lo > -18.0) {  // VLP-16 reaches only -15 deg
+    if (confidence) *confidence = (lo > -16.5 && hi < 16.5) ? 0.9 : 0.5;
+    return VLP16();
+  }
+  if (hi > 5.0) {  // below -18 and above +5: only the VLP-32C spans both
+    if (confidence) *confidence = 0.9;
+    return VLP32();
+  }
+  // Both HDL-64E and a VLP-32C without upward returns: the HDL-64E lower block has a beam every
+  // 0.5 deg down to -24.3, the VLP-32C only three beams below -8 deg. Count occupied 1-deg bins.
+  const int first_bin = static_cast<int>(std::ceil(lo + 1.0)), last_bin = -10;
+  int occupied = 0, bins = 0;
+  const std::size_t min_count = std::max<std::size_t>(5, el.size() / 5000);
+  for (int b = first_bin; b < last_bin; ++b) {
+    ++bins;
+    const auto a = std::lower_bound(el.begin(), el.end(), static_cast<double>(b));
+    const auto e = std::lower_bound(el.begin(), el.end(), static_cast<double>(b + 1));
+    if (static_cast<std::size_t>(e - a) >= min_count) ++occupied;
+  }
+  const double fill = bins > 0 ? static_cast<double>(occupied) / bins : 0.0;
+  if (confidence) *confidence = std::abs(fill - 0.5) + 0.4;
+  return fill > 0.5 ? HDL64() : VLP32();
+}
+
+}  // namespace lidar
+}  // namespace plucker

@@ -1,0 +1,87 @@
+#include "plucker/lidar/voxel_map.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+#include <random>
+
+namespace plucker {
+namespace lidar {
+namespace {
+
+TEST(VoxelMapTest, KNearestMatchesBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-5, 5);
+  VoxelMap map({1.0, 1000, 0.0, 1e9});
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 5000; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+  ASSERT_EQ(map.AddPoints(pts), 5000);
+  std::vector<Eigen::Vector3d> nn;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    const int found = map.KNearest(q, 5, 1.0, &nn);
+    std::vector<double> d;
+    for (const auto& p : pts) {
+      const double dist = (p - q).norm();
+      if (dist <= 1.0) d.push_back(dist);
+    }
+    std::sort(d.begin(), d.end());
+    ASSERT_EQ(found, static_cast<int>(std::min<std::size_t>(5, d.size())));
+    for (int i = 0; i < found; ++i) EXPECT_NEAR((nn[i] - q).norm(), d[i], 1e-5);
+  }
+}
+
+TEST(VoxelMapTest, SpacingAndCapLimitDensity) {
+  VoxelMap map({1.0, 5, 0.2, 1e9});
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 1000; ++i) pts.emplace_back(0.5 + 1e-4 * i, 0.5, 0.5);  // 10 cm of points
+  EXPECT_EQ(map.AddPoints(pts), 1);  // all within 0.2 m of the first
+  pts.clear();
+  for (int i = 0; i < 10; ++i) pts.emplace_back(0.05 + 0.09 * i, 0.05 + 0.09 * i, 0.05);
+  map.AddPoints(pts);
+  EXPECT_LE(map.NumPoints(), 5u);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(map.AddPoints({Eigen::Vector3d(nan, 0, 0)}), 0);
+}
+
+TEST(VoxelMapTest, MemoryStaysFlatAsThePoseMovesFar) {
+  VoxelMapOptions options;
+  options.max_distance = 50.0;
+  VoxelMap map(options);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-40, 40);
+  std::size_t peak_after_warmup = 0, peak = 0;
+  for (int step = 0; step < 2000; ++step) {
+    const Eigen::Vector3d origin(5.0 * step, 0.0, 0.0);  // 10 km
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 500; ++i) pts.push_back(origin + Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)));
+    map.AddPoints(pts);
+    map.RemoveFar(origin);
+    if (step == 100) peak_after_warmup = map.NumPoints();
+    peak = std::max(peak, map.NumPoints());
+    for (const auto& p : map.Points()) {
+      if (step % 500 == 0) ASSERT_LT((p - origin).norm(), options.max_distance + 2.0);
+    }
+  }
+  EXPECT_GT(peak_after_warmup, 0u);
+  EXPECT_LT(peak, 1.3 * peak_after_warmup);
+  EXPECT_LT(map.NumVoxels(), 60000u);
+}
+
+TEST(VoxelMapTest, FarFromTheOriginAndNegativeCoordinates) {
+  VoxelMap map({0.5, 10, 0.0, 1e9});
+  const Eigen::Vector3d a(-12345.2, 20000.7, -3.3);
+  map.AddPoints({a, a + Eigen::Vector3d(0.3, 0, 0)});
+  std::vector<Eigen::Vector3d> nn;
+  ASSERT_EQ(map.KNearest(a + Eigen::Vector3d(0.01, 0, 0), 2, 0.5, &nn), 2);
+  EXPECT_LT((nn[0] - a).norm(), 0.01);
+  map.RemoveFar(Eigen::Vector3d::Zero());
+  EXPECT_EQ(map.NumPoints(), 2u);  // max_distance 1e9 keeps them
+  map.Clear();
+  EXPECT_TRUE(map.empty());
+}
+
+}  // namespace
+}  // namespace lidar
+}  // namespace plucker

@@ -1,0 +1,264 @@
+#include "plucker/sim/camera_observations.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace plucker {
+namespace sim {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+Eigen::Matrix3d DefaultRotationBodyCamera() {
+  Eigen::Matrix3d R_b_c;
+  // Columns: the camera axes x (right), y (down), z (forward) in body coordinates.
+  R_b_c << 0, 0, 1,  //
+      -1, 0, 0,      //
+      0, -1, 0;
+  return R_b_c;
+}
+
+SE3d DefaultBodyCameraPose() {
+  return CanonicalPose(SE3d(DefaultRotationBodyCamera(), Vector3d(0.05, -0.02, 0.01)));
+}
+
+namespace {
+
+bool IsNormalizationFixedPoint(const Eigen::Quaterniond& q) {
+  return SE3d(q, Vector3d::Zero()).rotation().coeffs() == q.coeffs();
+}
+
+}  // namespace
+
+SE3d CanonicalPose(const SE3d& T) {
+  // SE3d normalises its quaternion; renormalising an already unit quaternion can move its last
+  // bits. Iterate to a fixed point; on a 2-cycle, search the coefficients within +-2 ulp.
+  Eigen::Quaterniond q = T.rotation();
+  for (int i = 0; i < 8 && !IsNormalizationFixedPoint(q); ++i) {
+    q = SE3d(q, Vector3d::Zero()).rotation();
+  }
+  if (IsNormalizationFixedPoint(q)) return SE3d(q, T.translation());
+  for (int k = 1; k < 625; ++k) {
+    Eigen::Quaterniond candidate = q;
+    int code = k;
+    for (int c = 0; c < 4; ++c, code /= 5) {
+      const int steps = code % 5 - 2;
+      double& x = candidate.coeffs()(c);
+      for (int s = 0; s < std::abs(steps); ++s) x = std::nextafter(x, steps > 0 ? 2.0 : -2.0);
+    }
+    if (IsNormalizationFixedPoint(candidate)) return SE3d(candidate, T.translation());
+  }
+  return SE3d(q, T.translation());  // not reached in practice; within 1 ulp anyway
+}
+
+namespace {
+
+// Pixel bounds shrunk by a hair so that rounding never puts a clipped endpoint outside.
+constexpr double kBorderEps = 1e-7;
+
+std::uint64_t DeriveSeed(std::uint64_t seed, std::uint64_t stream) {
+  // SplitMix64 of the seed advanced by the stream index.
+  std::uint64_t z = seed + (stream + 1) * 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+Vector2d Project(const PinholeIntrinsics& K, const Vector3d& p_c) {
+  return Vector2d(K.fx * p_c.x() / p_c.z() + K.cx, K.fy * p_c.y() / p_c.z() + K.cy);
+}
+
+void ValidateRig(const CameraRig& rig) {
+  if (!rig.K.IsValid() || rig.width < 2 || rig.height < 2 || !rig.T_b_c.translation().allFinite() ||
+      !rig.T_b_c.rotation().coeffs().allFinite()) {
+    throw std::invalid_argument("camera rig: invalid intrinsics, image size or extrinsic");
+  }
+}
+
+void ValidateObservationOptions(const ObservationOptions& o) {
+  if (!std::isfinite(o.pixel_sigma) || o.pixel_sigma < 0.0) {
+    throw std::invalid_argument("observations: pixel_sigma must be finite and >= 0");
+  }
+  if (!std::isfinite(o.outlier_ratio) || o.outlier_ratio < 0.0 || o.outlier_ratio > 0.9) {
+    throw std::invalid_argument("observations: outlier_ratio must be in [0, 0.9]");
+  }
+  if (!std::isfinite(o.min_segment_px) || o.min_segment_px < 0.0) {
+    throw std::invalid_argument("observations: min_segment_px must be finite and >= 0");
+  }
+  if (!std::isfinite(o.min_depth) || !std::isfinite(o.max_depth) || o.min_depth <= 0.0 ||
+      o.max_depth <= o.min_depth) {
+    throw std::invalid_argument("observations: need 0 < min_depth < max_depth (finite)");
+  }
+}
+
+// How many outliers keep outliers / (inliers + outliers) at `ratio` over the sequence so far.
+int OutliersDue(double ratio, long long inliers_so_far, long long outliers_so_far) {
+  if (ratio <= 0.0) return 0;
+  const long long target =
+      std::llround(ratio / (1.0 - ratio) * static_cast<double>(inliers_so_far));
+  return static_cast<int>(std::max(0LL, target - outliers_so_far));
+}
+
+}  // namespace
+
+std::optional<Vector2d> ProjectVisiblePoint(const Vector3d& p_w, const SE3d& T_w_c,
+                                            const CameraRig& rig, double min_depth,
+                                            double max_depth) {
+  const Vector3d p_c = T_w_c.rotation().conjugate() * (p_w - T_w_c.translation());
+  if (!(p_c.z() >= min_depth && p_c.z() <= max_depth)) return std::nullopt;
+  const Vector2d uv = Project(rig.K, p_c);
+  if (!(uv.x() >= 0.0 && uv.x() <= rig.width - 1.0 && uv.y() >= 0.0 &&
+        uv.y() <= rig.height - 1.0)) {
+    return std::nullopt;
+  }
+  return uv;
+}
+
+std::optional<ClippedSegment> ClipSegmentToImage(const LineSegment3& segment_w, const SE3d& T_w_c,
+                                                 const CameraRig& rig, double min_depth,
+                                                 double max_depth) {
+  if (!(min_depth > 0.0) || !(max_depth > min_depth)) return std::nullopt;
+  const Eigen::Quaterniond q_c_w = T_w_c.rotation().conjugate();
+  const Vector3d A = q_c_w * (segment_w.a_w - T_w_c.translation());
+  const Vector3d B = q_c_w * (segment_w.b_w - T_w_c.translation());
+  if (!A.allFinite() || !B.allFinite() || (B - A).norm() == 0.0) return std::nullopt;
+  const PinholeIntrinsics& K = rig.K;
+  const double u_min = kBorderEps, u_max = rig.width - 1.0 - kBorderEps;
+  const double v_min = kBorderEps, v_max = rig.height - 1.0 - kBorderEps;
+  // Half-spaces g . P + h >= 0 of the frustum (the side planes assume z > 0, which the near
+  // plane guarantees on the kept part).
+  struct HalfSpace {
+    Vector3d g;
+    double h;
+  };
+  const HalfSpace planes[6] = {
+      {Vector3d(0, 0, 1), -min_depth},        {Vector3d(0, 0, -1), max_depth},
+      {Vector3d(K.fx, 0, K.cx - u_min), 0.0}, {Vector3d(-K.fx, 0, u_max - K.cx), 0.0},
+      {Vector3d(0, K.fy, K.cy - v_min), 0.0}, {Vector3d(0, -K.fy, v_max - K.cy), 0.0},
+  };
+  double s0 = 0.0, s1 = 1.0;
+  for (const HalfSpace& hs : planes) {
+    const double fa = hs.g.dot(A) + hs.h, fb = hs.g.dot(B) + hs.h;
+    if (fa < 0.0 && fb < 0.0) return std::nullopt;
+    if (fa >= 0.0 && fb >= 0.0) continue;
+    const double s = fa / (fa - fb);
+    if (fa < 0.0) {
+      s0 = std::max(s0, s);
+    } else {
+      s1 = std::min(s1, s);
+    }
+    if (!(s0 < s1)) return std::nullopt;
+  }
+  ClippedSegment c;
+  c.s0 = s0;
+  c.s1 = s1;
+  c.a_c = A + s0 * (B - A);
+  c.b_c = A + s1 * (B - A);
+  c.s_px = Project(K, c.a_c);
+  c.e_px = Project(K, c.b_c);
+  return c;
+}
+
+CameraObservations ObserveScene(const Scene& scene, const CameraRig& rig,
+                                const std::vector<SE3d>& T_w_c, const ObservationOptions& options,
+                                std::uint64_t seed) {
+  ValidateRig(rig);
+  ValidateObservationOptions(options);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform_u(0.0, rig.width - 1.0);
+  std::uniform_real_distribution<double> uniform_v(0.0, rig.height - 1.0);
+  auto noise = [&] {
+    const double x = normal(rng), y = normal(rng);
+    return Vector2d(options.pixel_sigma * x, options.pixel_sigma * y);
+  };
+  auto random_pixel = [&] {
+    const double u = uniform_u(rng), v = uniform_v(rng);
+    return Vector2d(u, v);
+  };
+
+  CameraObservations out;
+  ObservationStats& st = out.stats;
+  for (int frame = 0; frame < static_cast<int>(T_w_c.size()); ++frame) {
+    const SE3d& T = T_w_c[frame];
+    if (options.observe_points) {
+      for (int id = 0; id < static_cast<int>(scene.points_w.size()); ++id) {
+        const auto uv =
+            ProjectVisiblePoint(scene.points_w[id], T, rig, options.min_depth, options.max_depth);
+        if (!uv) continue;
+        out.points.push_back({frame, id, *uv + noise()});
+        ++st.num_point_inliers;
+      }
+      const int n_out =
+          OutliersDue(options.outlier_ratio, st.num_point_inliers, st.num_point_outliers);
+      for (int k = 0; k < n_out; ++k) {
+        out.points.push_back({frame, -1, random_pixel()});
+        ++st.num_point_outliers;
+      }
+    }
+    if (options.observe_segments) {
+      for (int id = 0; id < static_cast<int>(scene.segments_w.size()); ++id) {
+        const auto clipped =
+            ClipSegmentToImage(scene.segments_w[id], T, rig, options.min_depth, options.max_depth);
+        if (!clipped || (clipped->e_px - clipped->s_px).norm() < options.min_segment_px) continue;
+        const Vector2d ns = noise(), ne = noise();
+        out.segments.push_back({frame, id, clipped->s_px + ns, clipped->e_px + ne});
+        ++st.num_segment_inliers;
+      }
+      const int n_out =
+          OutliersDue(options.outlier_ratio, st.num_segment_inliers, st.num_segment_outliers);
+      for (int k = 0; k < n_out; ++k) {
+        // Uniform endpoints, redrawn (a bounded number of times) until long enough.
+        Vector2d s = random_pixel(), e = random_pixel();
+        for (int attempt = 0; attempt < 100 && (e - s).norm() < options.min_segment_px; ++attempt) {
+          s = random_pixel();
+          e = random_pixel();
+        }
+        out.segments.push_back({frame, -1, s, e});
+        ++st.num_segment_outliers;
+      }
+    }
+  }
+  return out;
+}
+
+CameraSimulation SimulateCamera(const CameraSimulationOptions& options) {
+  if (options.num_frames < 1) throw std::invalid_argument("SimulateCamera: num_frames < 1");
+  if (!std::isfinite(options.frame_rate_hz) || options.frame_rate_hz <= 0.0) {
+    throw std::invalid_argument("SimulateCamera: frame_rate_hz must be finite and positive");
+  }
+  ValidateRig(options.rig);
+  ValidateObservationOptions(options.obs);
+
+  CameraSimulation sim;
+  sim.scene = MakeScene(options.scene, DeriveSeed(options.seed, 0));
+  sim.rig = options.rig;
+  sim.rig.T_b_c = CanonicalPose(options.rig.T_b_c);
+  sim.imu_options = options.imu;
+  sim.obs_options = options.obs;
+
+  TrajectoryOptions trajectory_options = options.trajectory;
+  trajectory_options.duration = (options.num_frames - 1) / options.frame_rate_hz;
+  const Trajectory trajectory =
+      MakeTrajectory(trajectory_options, sim.scene, DeriveSeed(options.seed, 1));
+  for (int i = 0; i < options.num_frames; ++i) {
+    const double t = i / options.frame_rate_hz;
+    sim.frame_times.push_back(t);
+    sim.T_w_b_gt.push_back(CanonicalPose(trajectory.T_w_b(t)));
+    sim.T_w_c_gt.push_back(CanonicalPose(sim.T_w_b_gt.back() * sim.rig.T_b_c));
+    sim.v_w_gt.push_back(trajectory.velocity_w(t));
+  }
+  if (options.simulate_imu) {
+    sim.imu = SimulateImu(trajectory, options.imu, DeriveSeed(options.seed, 2));
+  }
+  CameraObservations obs =
+      ObserveScene(sim.scene, sim.rig, sim.T_w_c_gt, options.obs, DeriveSeed(options.seed, 3));
+  sim.points = std::move(obs.points);
+  sim.segments = std::move(obs.segments);
+  sim.stats = obs.stats;
+  return sim;
+}
+
+}  // namespace sim
+}  // namespace plucker

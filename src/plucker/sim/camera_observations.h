@@ -1,0 +1,136 @@
+// Camera observations of a simulated scene, and the whole camera/IMU simulation.
+//
+// Pixel coordinates: u right, v down, the image is [0, width - 1] x [0, height - 1] (pixel
+// centres at integers). Depth is the camera-frame z. A point is visible when
+// min_depth <= z <= max_depth and its projection lies in the image. A segment is clipped in 3D
+// against the view frustum (near plane z = min_depth, far plane z = max_depth and the four side
+// planes through the image borders), so the clipped endpoints project inside the image and onto
+// the projection of the full line; it is kept if the clipped length is >= min_segment_px.
+// Endpoint order is kept: s_px comes from the a_w side, e_px from the b_w side.
+// Noise: i.i.d. Gaussian pixel_sigma on every coordinate. Outliers (id -1): uniformly random
+// pixels / random segments inside the image, outlier_ratio = outliers / all observations.
+// No occlusion test: the scenes are convex from the free space (frames protrude by centimetres).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "plucker/geometry/camera.h"
+#include "plucker/geometry/se3.h"
+#include "plucker/sim/imu.h"
+#include "plucker/sim/scene.h"
+#include "plucker/sim/trajectory.h"
+
+namespace plucker {
+namespace sim {
+
+// R_b_c of the default rig: camera z (forward) = body x, camera x (right) = -body y,
+// camera y (down) = -body z.
+Eigen::Matrix3d DefaultRotationBodyCamera();
+// The default extrinsic T_b_c: DefaultRotationBodyCamera() and t_b_c = (0.05, -0.02, 0.01) m.
+SE3d DefaultBodyCameraPose();
+
+// The pose with its quaternion re-normalised to a fixed point of SE3d's normalisation, so that
+// writing its coefficients with %.17g and reading them back gives the identical pose. Every pose
+// SimulateCamera returns is canonical.
+SE3d CanonicalPose(const SE3d& T);
+
+struct CameraRig {
+  PinholeIntrinsics K{400.0, 400.0, 319.5, 239.5};
+  int width = 640;
+  int height = 480;
+  SE3d T_b_c = DefaultBodyCameraPose();
+};
+
+struct PointObservation {
+  int frame = 0;
+  int point_id = -1;  // index into Scene::points_w; -1 for an outlier
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+};
+
+struct SegmentObservation {
+  int frame = 0;
+  int line_id = -1;  // index into Scene::segments_w; -1 for an outlier
+  Eigen::Vector2d s_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d e_px = Eigen::Vector2d::Zero();
+};
+
+struct ObservationOptions {
+  double pixel_sigma = 1.0;      // px, noise on every point / endpoint coordinate
+  double outlier_ratio = 0.0;    // in [0, 0.9]: outliers / (inliers + outliers)
+  double min_segment_px = 20.0;  // minimum clipped (noise-free) segment length
+  double min_depth = 0.1;        // m, near plane
+  double max_depth = 40.0;       // m, far plane
+  bool observe_points = true;
+  bool observe_segments = true;
+};
+
+// A world segment clipped to the view frustum of a camera at T_w_c.
+struct ClippedSegment {
+  double s0 = 0.0, s1 = 1.0;  // kept parameter interval of a_w + s (b_w - a_w), s0 < s1
+  Eigen::Vector3d a_c = Eigen::Vector3d::Zero(), b_c = Eigen::Vector3d::Zero();  // clipped, camera
+  Eigen::Vector2d s_px = Eigen::Vector2d::Zero(), e_px = Eigen::Vector2d::Zero();  // projections
+};
+
+// Noise-free projection of p_w, or nullopt when it is not visible (see the file comment).
+std::optional<Eigen::Vector2d> ProjectVisiblePoint(const Eigen::Vector3d& p_w, const SE3d& T_w_c,
+                                                   const CameraRig& rig, double min_depth,
+                                                   double max_depth);
+// Clips in 3D (Liang-Barsky on the segment parameter); nullopt if nothing is left.
+std::optional<ClippedSegment> ClipSegmentToImage(const LineSegment3& segment_w, const SE3d& T_w_c,
+                                                 const CameraRig& rig, double min_depth,
+                                                 double max_depth);
+
+struct ObservationStats {
+  int num_point_inliers = 0, num_point_outliers = 0;
+  int num_segment_inliers = 0, num_segment_outliers = 0;
+};
+
+struct CameraObservations {
+  std::vector<PointObservation> points;      // sorted by frame; inliers by id, then outliers
+  std::vector<SegmentObservation> segments;  // same order
+  ObservationStats stats;
+};
+
+// Observes the scene from every camera pose (frame i = T_w_c[i]). Throws std::invalid_argument
+// for invalid options or rig.
+CameraObservations ObserveScene(const Scene& scene, const CameraRig& rig,
+                                const std::vector<SE3d>& T_w_c, const ObservationOptions& options,
+                                std::uint64_t seed);
+
+// Ground truth and measurements of one simulated camera + IMU sequence.
+struct CameraSimulation {
+  Scene scene;
+  CameraRig rig;
+  ImuOptions imu_options;           // the noise model the IMU samples were drawn with
+  ObservationOptions obs_options;   // the pixel noise / outlier model of the observations
+  std::vector<double> frame_times;  // s
+  std::vector<SE3d> T_w_c_gt;       // = T_w_b_gt[i] * rig.T_b_c
+  std::vector<SE3d> T_w_b_gt;
+  std::vector<Eigen::Vector3d> v_w_gt;  // body velocity at the frame times
+  std::vector<PointObservation> points;
+  std::vector<SegmentObservation> segments;
+  std::vector<ImuSample> imu;
+  ObservationStats stats;
+};
+
+struct CameraSimulationOptions {
+  SceneOptions scene;
+  TrajectoryOptions trajectory;  // duration is overwritten with (num_frames - 1) / frame_rate_hz
+  ImuOptions imu;
+  ObservationOptions obs;
+  CameraRig rig;
+  int num_frames = 100;
+  double frame_rate_hz = 10.0;
+  bool simulate_imu = true;
+  std::uint64_t seed = 1;
+};
+
+// Scene, trajectory, IMU and observations, each from its own stream derived from options.seed.
+// Frame i is at t_i = i / frame_rate_hz. Throws std::invalid_argument for invalid options.
+CameraSimulation SimulateCamera(const CameraSimulationOptions& options);
+
+}  // namespace sim
+}  // namespace plucker

@@ -1,0 +1,44 @@
+// IMU synthesis from an analytic trajectory:
+//   gyro  = omega_b(t) + b_g + n_g,            n_g ~ N(0, sigma_g^2 / dt)   per axis
+//   accel = R_w_b(t)^T (a_w(t) - g_w) + b_a + n_a, n_a ~ N(0, sigma_a^2 / dt)
+//   b_{k+1} = b_k + N(0, sigma_bw^2 dt)        (bias random walks)
+// with sigma_* the continuous-time densities (sigma_d = sigma_c / sqrt(dt), dt = 1 / rate).
+// Deterministic given the seed; no I/O.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "plucker/sim/trajectory.h"
+
+namespace plucker {
+namespace sim {
+
+struct ImuOptions {
+  double rate_hz = 200.0;
+  double gyro_noise_density = 1.7e-4;      // rad / s / sqrt(Hz)
+  double accel_noise_density = 2.0e-3;     // m / s^2 / sqrt(Hz)
+  double gyro_bias_random_walk = 2.0e-5;   // rad / s^2 / sqrt(Hz)
+  double accel_bias_random_walk = 3.0e-3;  // m / s^3 / sqrt(Hz)
+  Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();
+  Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_w{0.0, 0.0, -9.81};
+};
+
+struct ImuSample {
+  double t = 0.0;
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();        // rad/s, body frame
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();       // m/s^2, specific force, body frame
+  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   // ground truth at t
+  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  // ground truth at t
+};
+
+// Samples at t_k = k / rate_hz for k = 0 .. ceil(duration * rate_hz) (the last sample is at or
+// after the trajectory's end). Throws std::invalid_argument for a non-positive rate or negative
+// / non-finite densities.
+std::vector<ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
+                                   std::uint64_t seed);
+
+}  // namespace sim
+}  // namespace plucker

@@ -1,0 +1,160 @@
+#include "plucker/sim/trajectory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace plucker {
+namespace sim {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+double SmoothSignal::Value(double t) const {
+  double v = offset + rate * t;
+  for (const Sinusoid& s : terms) v += s.amplitude * std::sin(s.omega * t + s.phase);
+  return v;
+}
+
+double SmoothSignal::FirstDerivative(double t) const {
+  double v = rate;
+  for (const Sinusoid& s : terms) v += s.amplitude * s.omega * std::cos(s.omega * t + s.phase);
+  return v;
+}
+
+double SmoothSignal::SecondDerivative(double t) const {
+  double v = 0.0;
+  for (const Sinusoid& s : terms) {
+    v -= s.amplitude * s.omega * s.omega * std::sin(s.omega * t + s.phase);
+  }
+  return v;
+}
+
+Trajectory::Trajectory(const std::array<SmoothSignal, 3>& position_w, const SmoothSignal& yaw,
+                       const SmoothSignal& pitch, const SmoothSignal& roll, double duration)
+    : position_w_(position_w), yaw_(yaw), pitch_(pitch), roll_(roll), duration_(duration) {}
+
+Matrix3d Trajectory::R_w_b(double t) const {
+  return (Eigen::AngleAxisd(yaw_.Value(t), Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch_.Value(t), Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll_.Value(t), Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+SE3d Trajectory::T_w_b(double t) const { return SE3d(R_w_b(t), position_w(t)); }
+
+Vector3d Trajectory::position_w(double t) const {
+  return Vector3d(position_w_[0].Value(t), position_w_[1].Value(t), position_w_[2].Value(t));
+}
+
+Vector3d Trajectory::velocity_w(double t) const {
+  return Vector3d(position_w_[0].FirstDerivative(t), position_w_[1].FirstDerivative(t),
+                  position_w_[2].FirstDerivative(t));
+}
+
+Vector3d Trajectory::acceleration_w(double t) const {
+  return Vector3d(position_w_[0].SecondDerivative(t), position_w_[1].SecondDerivative(t),
+                  position_w_[2].SecondDerivative(t));
+}
+
+// R = Rz(yaw) Ry(pitch) Rx(roll)  =>  R^T R' = [omega_b]x with
+// omega_b = roll' e_x + pitch' Rx^T e_y + yaw' Rx^T Ry^T e_z.
+Vector3d Trajectory::angular_velocity_b(double t) const {
+  const double pitch = pitch_.Value(t), roll = roll_.Value(t);
+  const double dyaw = yaw_.FirstDerivative(t), dpitch = pitch_.FirstDerivative(t),
+               droll = roll_.FirstDerivative(t);
+  const double sp = std::sin(pitch), cp = std::cos(pitch), sr = std::sin(roll), cr = std::cos(roll);
+  return Vector3d(droll - dyaw * sp, dpitch * cr + dyaw * cp * sr, -dpitch * sr + dyaw * cp * cr);
+}
+
+Vector3d Trajectory::angular_velocity_w(double t) const { return R_w_b(t) * angular_velocity_b(t); }
+
+Vector3d Trajectory::euler_zyx(double t) const {
+  return Vector3d(yaw_.Value(t), pitch_.Value(t), roll_.Value(t));
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void CheckFinite(double v, bool positive, const char* name) {
+  if (!std::isfinite(v) || v < 0.0 || (positive && v == 0.0)) {
+    throw std::invalid_argument(std::string("MakeTrajectory: invalid ") + name);
+  }
+}
+
+}  // namespace
+
+Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene,
+                          std::uint64_t seed) {
+  CheckFinite(options.duration, false, "duration");
+  CheckFinite(options.speed, true, "speed");
+  CheckFinite(options.eye_height, false, "eye_height");
+  CheckFinite(options.yaw_sway, false, "yaw_sway");
+  CheckFinite(options.pitch_amplitude, false, "pitch_amplitude");
+  CheckFinite(options.roll_amplitude, false, "roll_amplitude");
+  CheckFinite(options.wobble, false, "wobble");
+  if (options.pitch_amplitude > 0.5 || options.roll_amplitude > 0.5) {
+    throw std::invalid_argument("MakeTrajectory: pitch/roll amplitudes above 0.5 rad");
+  }
+  const Eigen::AlignedBox3d& box = scene.free_space_w;
+  if (box.isEmpty() || !box.min().allFinite() || !box.max().allFinite()) {
+    throw std::invalid_argument("MakeTrajectory: the scene has no free space");
+  }
+  std::mt19937_64 rng(seed);
+  auto phase = [&rng] { return std::uniform_real_distribution<double>(0.0, 2.0 * kPi)(rng); };
+
+  const Vector3d center = box.center();
+  const Vector3d half = 0.5 * box.sizes();
+  // Position wobble (IMU excitation) at fixed frequencies, limited to a quarter of the room.
+  const Vector3d wobble = half.cwiseMin(options.wobble * 4.0) * 0.25;
+  const Vector3d reach = half - 2.0 * wobble;  // what the main motion may use
+  std::array<SmoothSignal, 3> p;
+  const double wobble_omega[3] = {2 * kPi * 0.7, 2 * kPi * 0.9, 2 * kPi * 1.1};
+  for (int i = 0; i < 3; ++i) p[i].offset = center(i);
+
+  // Height: eye height clamped into the free space, a slow bob.
+  const double bob = std::min(0.15, 0.5 * reach.z());
+  p[2].offset = std::clamp(options.eye_height, box.min().z() + bob + 2.0 * wobble.z(),
+                           box.max().z() - bob - 2.0 * wobble.z());
+
+  SmoothSignal yaw, pitch, roll;
+  const double yaw_omega = 0.6, pitch_omega = 0.9, roll_omega = 1.3;
+  if (scene.kind == SceneKind::kRoom) {
+    const double rx = 0.9 * reach.x(), ry = 0.9 * reach.y();
+    const double radius = std::max(0.5 * (rx + ry), 1e-3);
+    const double omega = options.speed / radius;
+    const double phi = phase();
+    p[0].terms.push_back({rx, omega, phi + 0.5 * kPi});  // rx cos(omega t + phi)
+    p[1].terms.push_back({ry, omega, phi});              // ry sin(omega t + phi)
+    p[2].terms.push_back({bob, 0.5 * omega, phase()});
+    // Heading along the motion (theta + pi/2), turned 0.3 rad towards the room centre (so the
+    // far walls are in view), with a sway.
+    yaw.offset = phi + 0.5 * kPi + 0.3;
+    yaw.rate = omega;
+    yaw.terms.push_back({0.5 * options.yaw_sway, yaw_omega, phase()});
+  } else {
+    // Back and forth along x, always looking towards +x (down the corridor / street) with a yaw
+    // sway; the +x end of the motion stays `lookahead` metres short of the free space so that
+    // the end wall / the far facades remain in view.
+    const double lookahead = std::min(8.0, 0.4 * box.sizes().x());
+    const double x_lo = box.min().x() + 2.0 * wobble.x();
+    const double x_hi = box.max().x() - 2.0 * wobble.x() - lookahead;
+    const double X = 0.5 * std::max(x_hi - x_lo, 0.0), Y = 0.7 * reach.y();
+    const double omega = options.speed / std::max(X, 1e-3);
+    p[0].offset = 0.5 * (x_lo + x_hi);
+    p[0].terms.push_back({X, omega, phase()});
+    p[1].terms.push_back({Y, 1.7 * omega + 0.2, phase()});
+    p[2].terms.push_back({bob, 0.5 * omega + 0.3, phase()});
+    yaw.terms.push_back({options.yaw_sway, yaw_omega, phase()});
+    if (scene.kind == SceneKind::kFacades) pitch.offset = -0.12;  // look up at the facades
+  }
+  for (int i = 0; i < 3; ++i) p[i].terms.push_back({wobble(i), wobble_omega[i], phase()});
+  pitch.terms.push_back({options.pitch_amplitude, pitch_omega, phase()});
+  roll.terms.push_back({options.roll_amplitude, roll_omega, phase()});
+  return Trajectory(p, yaw, pitch, roll, options.duration);
+}
+
+}  // namespace sim
+}  // namespace plucker

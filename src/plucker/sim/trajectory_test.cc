@@ -1,0 +1,118 @@
+#include "plucker/sim/trajectory.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "plucker/geometry/so3.h"
+
+namespace plucker {
+namespace sim {
+namespace {
+
+TEST(SmoothSignalTest, DerivativesMatchCentralDifferences) {
+  SmoothSignal s;
+  s.offset = 0.3;
+  s.rate = -0.7;
+  s.terms = {{1.2, 0.8, 0.1}, {0.05, 7.0, 2.0}};
+  const double h = 1e-5;
+  for (double t = -3.0; t < 3.0; t += 0.37) {
+    EXPECT_NEAR(s.FirstDerivative(t), (s.Value(t + h) - s.Value(t - h)) / (2 * h), 1e-8);
+    EXPECT_NEAR(s.SecondDerivative(t),
+                (s.FirstDerivative(t + h) - s.FirstDerivative(t - h)) / (2 * h), 1e-8);
+  }
+}
+
+class TrajectoryKindTest : public ::testing::TestWithParam<SceneKind> {
+ protected:
+  void SetUp() override {
+    SceneOptions scene_options;
+    scene_options.kind = GetParam();
+    scene_ = MakeScene(scene_options, 11);
+    TrajectoryOptions options;
+    options.duration = 20.0;
+    options.wobble = 0.08;
+    trajectory_ = MakeTrajectory(options, scene_, 5);
+  }
+  Scene scene_;
+  Trajectory trajectory_;
+};
+
+TEST_P(TrajectoryKindTest, AnalyticDerivativesMatchCentralDifferences) {
+  const Trajectory& tr = trajectory_;
+  const double h = 1e-5;
+  double max_v = 0, max_a = 0, max_w = 0;
+  for (double t = 0.0; t <= tr.duration(); t += 0.173) {
+    const Eigen::Vector3d v_fd = (tr.position_w(t + h) - tr.position_w(t - h)) / (2 * h);
+    const Eigen::Vector3d a_fd = (tr.velocity_w(t + h) - tr.velocity_w(t - h)) / (2 * h);
+    // R(t + h) = R(t - h) Exp(2 h omega_b(t)) + O(h^3).
+    const Eigen::Quaterniond dq(tr.R_w_b(t - h).transpose() * tr.R_w_b(t + h));
+    const Eigen::Vector3d w_fd = LogSO3(dq) / (2 * h);
+    max_v = std::max(max_v, (tr.velocity_w(t) - v_fd).norm());
+    max_a = std::max(max_a, (tr.acceleration_w(t) - a_fd).norm());
+    max_w = std::max(max_w, (tr.angular_velocity_b(t) - w_fd).norm());
+    EXPECT_NEAR((tr.angular_velocity_w(t) - tr.R_w_b(t) * w_fd).norm(), 0.0, 1e-6);
+    // T_w_b agrees with R_w_b and position_w.
+    EXPECT_LT((tr.T_w_b(t).RotationMatrix() - tr.R_w_b(t)).norm(), 1e-12);
+    EXPECT_EQ(tr.T_w_b(t).translation(), tr.position_w(t));
+  }
+  EXPECT_LT(max_v, 1e-7);
+  EXPECT_LT(max_a, 1e-7);
+  EXPECT_LT(max_w, 1e-6);
+}
+
+TEST_P(TrajectoryKindTest, StaysInFreeSpaceAndMoves) {
+  const Trajectory& tr = trajectory_;
+  const Eigen::AlignedBox3d box = scene_.free_space_w;
+  double path = 0.0, turned = 0.0;
+  Eigen::Vector3d previous = tr.position_w(0.0);
+  for (double t = 0.0; t <= tr.duration(); t += 0.05) {
+    const Eigen::Vector3d p = tr.position_w(t);
+    EXPECT_TRUE(box.contains(p)) << "t = " << t << " p = " << p.transpose();
+    path += (p - previous).norm();
+    previous = p;
+    turned += tr.angular_velocity_b(t).norm() * 0.05;
+    EXPECT_LT(std::abs(tr.euler_zyx(t)(1)), 0.5);  // far from the Euler singularity
+  }
+  EXPECT_GT(path, 5.0);
+  EXPECT_GT(turned, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllKinds, TrajectoryKindTest,
+                         ::testing::Values(SceneKind::kRoom, SceneKind::kCorridor,
+                                           SceneKind::kFacades),
+                         [](const ::testing::TestParamInfo<SceneKind>& info) {
+                           return SceneKindName(info.param);
+                         });
+
+TEST(TrajectoryTest, DeterministicGivenSeed) {
+  const Scene scene = MakeScene(SceneOptions(), 1);
+  const Trajectory a = MakeTrajectory(TrajectoryOptions(), scene, 9);
+  const Trajectory b = MakeTrajectory(TrajectoryOptions(), scene, 9);
+  const Trajectory c = MakeTrajectory(TrajectoryOptions(), scene, 10);
+  for (double t : {0.0, 1.5, 4.0}) {
+    EXPECT_EQ(a.position_w(t), b.position_w(t));
+    EXPECT_EQ(a.R_w_b(t), b.R_w_b(t));
+    EXPECT_NE(a.position_w(t), c.position_w(t));
+  }
+}
+
+TEST(TrajectoryTest, RejectsInvalidOptions) {
+  const Scene scene = MakeScene(SceneOptions(), 1);
+  TrajectoryOptions options;
+  options.speed = 0.0;
+  EXPECT_THROW(MakeTrajectory(options, scene, 1), std::invalid_argument);
+  options = TrajectoryOptions();
+  options.duration = std::nan("");
+  EXPECT_THROW(MakeTrajectory(options, scene, 1), std::invalid_argument);
+  options = TrajectoryOptions();
+  options.pitch_amplitude = 1.2;
+  EXPECT_THROW(MakeTrajectory(options, scene, 1), std::invalid_argument);
+  Scene empty;
+  EXPECT_THROW(MakeTrajectory(TrajectoryOptions(), empty, 1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sim
+}  // namespace plucker
