@@ -70,7 +70,8 @@ int RunBenchFactors(const BenchFactorsArgs& args) {
   }
   std::printf(
       "%d evaluations per version (residual + all Jacobians), %d distinct inputs, seed %lld; "
-      "thread CPU time, best of 20 rounds\nflop ns = flop estimate at an assumed %.0f flop/ns (1 scalar flop/cycle "
+      "thread CPU time, best of 20 rounds\nflop ns = flop estimate at an assumed %.0f flop/ns (1 "
+      "scalar flop/cycle "
       "at 2 GHz)\n",
       args.evaluations, verify::kFactorBenchInputs, args.seed, kAssumedFlopsPerNs);
   std::printf("%-22s %12s %12s %9s %7s %9s %7s  %s\n", "factor", "analytic ns", "autodiff ns",

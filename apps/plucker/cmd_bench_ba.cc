@@ -77,8 +77,8 @@ int RunBenchBa(const BenchBaArgs& args) {
       j[name] = {{"seconds", runs[k].best_seconds},
                  {"iterations", runs[k].result.iterations},
                  {"final_cost", runs[k].result.final_cost},
-                 {"rotation_rms_deg", runs[k].accuracy.poses.rotation_deg.rms},
-                 {"translation_rms_m", runs[k].accuracy.poses.translation_m.rms}};
+                 {"rotation_rms_deg", runs[k].accuracy.poses.rotation_deg.rmse},
+                 {"translation_rms_m", runs[k].accuracy.poses.translation_m.rmse}};
     }
     j["speedup"] = ratio;
     j["final_cost_relative_difference"] = cost_rel_diff;
@@ -94,8 +94,8 @@ int RunBenchBa(const BenchBaArgs& args) {
     for (int k = 0; k < 2; ++k) {
       std::printf("%-10s %10.3f %6d %14.6g %12.5f %12.5f\n", k == 0 ? "analytic" : "autodiff",
                   runs[k].best_seconds, runs[k].result.iterations, runs[k].result.final_cost,
-                  runs[k].accuracy.poses.rotation_deg.rms,
-                  runs[k].accuracy.poses.translation_m.rms);
+                  runs[k].accuracy.poses.rotation_deg.rmse,
+                  runs[k].accuracy.poses.translation_m.rmse);
     }
     std::printf("speed-up analytic vs autodiff: %.2fx; final costs differ by %.2e (relative)\n",
                 ratio, cost_rel_diff);

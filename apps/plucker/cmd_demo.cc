@@ -33,22 +33,22 @@ struct DemoArgs {
 };
 
 void PrintAccuracyRow(const char* stage, const ba::ProblemAccuracy& a) {
-  std::printf("  %-9s %10.4f %10.4f %12.4f %10.4f %12.4f\n", stage, a.poses.rotation_deg.rms,
-              a.poses.translation_m.rms, a.points_m.median, a.lines.direction_deg.median,
+  std::printf("  %-9s %10.4f %10.4f %12.4f %10.4f %12.4f\n", stage, a.poses.rotation_deg.rmse,
+              a.poses.translation_m.rmse, a.points_m.median, a.lines.direction_deg.median,
               a.lines.distance_m.median);
 }
 
 nlohmann::json AccuracyJson(const ba::ProblemAccuracy& a) {
-  return {{"pose_rotation_rms_deg", a.poses.rotation_deg.rms},
+  return {{"pose_rotation_rms_deg", a.poses.rotation_deg.rmse},
           {"pose_rotation_max_deg", a.poses.rotation_deg.max},
-          {"pose_translation_rms_m", a.poses.translation_m.rms},
+          {"pose_translation_rms_m", a.poses.translation_m.rmse},
           {"pose_translation_max_m", a.poses.translation_m.max},
-          {"point_rms_m", a.points_m.rms},
+          {"point_rms_m", a.points_m.rmse},
           {"point_median_m", a.points_m.median},
           {"line_direction_median_deg", a.lines.direction_deg.median},
           {"line_distance_median_m", a.lines.distance_m.median},
-          {"line_direction_rms_deg", a.lines.direction_deg.rms},
-          {"line_distance_rms_m", a.lines.distance_m.rms}};
+          {"line_direction_rms_deg", a.lines.direction_deg.rmse},
+          {"line_distance_rms_m", a.lines.distance_m.rmse}};
 }
 
 std::string FormatStructure(const ba::BundleAdjustmentData& state) {

@@ -149,11 +149,18 @@ json AssociationJson(const eval::AssociatedTrajectories& p) {
   return j;
 }
 
-json AlignmentJson(const eval::Similarity& S) {
+json AlignmentJson(const eval::Similarity& S, bool roll_from_orientations) {
   json R = json::array();
   for (int r = 0; r < 3; ++r) R.push_back({S.R(r, 0), S.R(r, 1), S.R(r, 2)});
-  return json{{"scale", S.scale}, {"R", R}, {"t", {S.t.x(), S.t.y(), S.t.z()}}};
+  return json{{"scale", S.scale},
+              {"R", R},
+              {"t", {S.t.x(), S.t.y(), S.t.z()}},
+              {"roll_from_orientations", roll_from_orientations}};
 }
+
+const char kRollNote[] =
+    "  note           positions nearly collinear: the roll about the line was taken from the "
+    "orientations\n";
 
 template <typename T>
 json OptionalJson(const std::optional<T>& v) {
@@ -287,6 +294,20 @@ void RunKitti(const EvalArgs& a) {
       }
       if (!series.points.empty()) plot.error_series.push_back(series);
     }
+    if (!r.has_segments()) {
+      // Something useful instead of an empty panel: the raw position error (both trajectories
+      // start at the identity in KITTI files, so no alignment), clearly labelled as such.
+      plot.error_title = "No KITTI segment: position error per pose (not aligned)";
+      plot.error_y_label = "position error [m]";
+      eval::PlotSeries series;
+      series.label = "|p_est - p_gt| (not the KITTI metric)";
+      series.color = "#d62728";
+      for (std::size_t i = 0; i < in.pairs.gt.size(); ++i) {
+        series.points.emplace_back(
+            r.distance[i], (in.pairs.est[i].translation() - in.pairs.gt[i].translation()).norm());
+      }
+      plot.error_series.push_back(series);
+    }
     WritePlot(a, plot);
   }
 }
@@ -303,7 +324,7 @@ void RunAte(const EvalArgs& a) {
                       {"est", a.est},
                       {"align", a.align},
                       {"association", AssociationJson(in.pairs)},
-                      {"alignment", AlignmentJson(r.alignment)},
+                      {"alignment", AlignmentJson(r.alignment, r.roll_from_orientations)},
                       {"translation_m", StatsJson(r.translation_m)},
                       {"rotation_deg", StatsJson(r.rotation_deg)}}
                      .dump(2)
@@ -314,6 +335,7 @@ void RunAte(const EvalArgs& a) {
     if (options.align == eval::AlignmentMode::kSim3) {
       std::cout << "  sim3 scale     " << Fixed(r.alignment.scale, 6) << "\n";
     }
+    if (r.roll_from_orientations) std::cout << kRollNote;
     PrintStats(std::cout, "ATE translation", r.translation_m, "m", 4);
     PrintStats(std::cout, "ATE rotation", r.rotation_deg, "deg", 4);
   }
@@ -360,6 +382,7 @@ void RunRpe(const EvalArgs& a) {
                       {"align", a.align},
                       {"association", AssociationJson(in.pairs)},
                       {"pairs", r.first.size()},
+                      {"alignment", AlignmentJson(r.alignment, r.roll_from_orientations)},
                       {"translation_m", StatsJson(r.translation_m)},
                       {"rotation_deg", StatsJson(r.rotation_deg)}}
                      .dump(2)

@@ -7,24 +7,6 @@
 namespace plucker {
 namespace ba {
 
-ErrorStats Summarize(const std::vector<double>& errors) {
-  ErrorStats s;
-  s.count = static_cast<int>(errors.size());
-  if (errors.empty()) return s;
-  double sum = 0.0, sum_sq = 0.0;
-  for (double e : errors) {
-    sum += e;
-    sum_sq += e * e;
-    s.max = std::max(s.max, e);
-  }
-  s.mean = sum / s.count;
-  std::vector<double> sorted = errors;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  s.median = sorted[sorted.size() / 2];
-  s.rms = std::sqrt(sum_sq / s.count);
-  return s;
-}
-
 PoseAccuracy ComparePoses(const std::vector<SE3d>& estimate, const std::vector<SE3d>& truth) {
   std::vector<double> rot, trans;
   const std::size_t n = std::min(estimate.size(), truth.size());
@@ -33,7 +15,7 @@ PoseAccuracy ComparePoses(const std::vector<SE3d>& estimate, const std::vector<S
                   180.0 / M_PI);
     trans.push_back((estimate[i].translation() - truth[i].translation()).norm());
   }
-  return {Summarize(rot), Summarize(trans)};
+  return {eval::ComputeStatistics(rot), eval::ComputeStatistics(trans)};
 }
 
 ErrorStats ComparePoints(const std::vector<Eigen::Vector3d>& estimate,
@@ -41,7 +23,7 @@ ErrorStats ComparePoints(const std::vector<Eigen::Vector3d>& estimate,
   std::vector<double> e;
   const std::size_t n = std::min(estimate.size(), truth.size());
   for (std::size_t i = 0; i < n; ++i) e.push_back((estimate[i] - truth[i]).norm());
-  return Summarize(e);
+  return eval::ComputeStatistics(e);
 }
 
 LineAccuracy CompareLines(const std::vector<Line6d>& estimate,
@@ -62,8 +44,8 @@ LineAccuracy CompareLines(const std::vector<Line6d>& estimate,
     dir.push_back(std::acos(c) * 180.0 / M_PI);
     dist.push_back(std::max(*da, *db));
   }
-  acc.direction_deg = Summarize(dir);
-  acc.distance_m = Summarize(dist);
+  acc.direction_deg = eval::ComputeStatistics(dir);
+  acc.distance_m = eval::ComputeStatistics(dist);
   return acc;
 }
 

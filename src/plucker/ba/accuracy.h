@@ -6,21 +6,13 @@
 #include <vector>
 
 #include "plucker/geometry/plucker_line.h"
+#include "plucker/eval/statistics.h"
 #include "plucker/geometry/se3.h"
 
 namespace plucker {
 namespace ba {
 
-struct ErrorStats {
-  int count = 0;
-  double rms = 0.0;
-  double mean = 0.0;
-  double median = 0.0;
-  double max = 0.0;
-};
-
-// Summary of a list of non-negative errors (empty -> count 0, zeros).
-ErrorStats Summarize(const std::vector<double>& errors);
+using ErrorStats = eval::ErrorStatistics;
 
 struct PoseAccuracy {
   ErrorStats rotation_deg;   // angle of R_gt^T R_est

@@ -68,10 +68,10 @@ TEST(BundleAdjustment, NoisyJointSolveIsStatisticallyConsistentAndAnalyticMatche
   EXPECT_LT(normalized_chi2, 1.15);
   const ProblemAccuracy before = Evaluate(p, p.initial);
   const ProblemAccuracy after = Evaluate(p, analytic);
-  EXPECT_LT(after.poses.rotation_deg.rms, before.poses.rotation_deg.rms / 10);
-  EXPECT_LT(after.poses.translation_m.rms, before.poses.translation_m.rms / 10);
-  EXPECT_LT(after.points_m.rms, before.points_m.rms / 3);
-  EXPECT_LT(after.lines.direction_deg.rms, before.lines.direction_deg.rms / 3);
+  EXPECT_LT(after.poses.rotation_deg.rmse, before.poses.rotation_deg.rmse / 10);
+  EXPECT_LT(after.poses.translation_m.rmse, before.poses.translation_m.rmse / 10);
+  EXPECT_LT(after.points_m.rmse, before.points_m.rmse / 3);
+  EXPECT_LT(after.lines.direction_deg.rmse, before.lines.direction_deg.rmse / 3);
   // Not asserted: the depth of a line seen with 5 deg of parallax through a 0.2 m scale gauge is
   // uncertain to ~0.2 m at 0.5 px noise, so its distance error need not shrink; the chi-square
   // test above and the exact noise-free recovery are what prove the solve.

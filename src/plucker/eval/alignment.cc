@@ -1,5 +1,7 @@
 #include "plucker/eval/alignment.h"
 
+#include <cmath>
+
 #include <Eigen/SVD>
 
 namespace plucker {
@@ -28,14 +30,25 @@ SE3d Similarity::Apply(const SE3d& T) const {
   return SE3d(Eigen::Matrix3d(R * T.RotationMatrix()), scale * (R * T.translation()) + t);
 }
 
-std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& source,
-                                           const std::vector<Eigen::Vector3d>& target,
-                                           AlignmentMode mode) {
-  if (source.size() != target.size() || source.empty()) return std::nullopt;
+namespace {
+
+struct UmeyamaDetails {
   Similarity S;
-  if (mode == AlignmentMode::kNone) return S;
+  Eigen::Vector3d singular_values = Eigen::Vector3d::Zero();    // of C, descending
+  Eigen::Vector3d source_direction = Eigen::Vector3d::UnitX();  // V.col(0)
+  Eigen::Vector3d mu_source = Eigen::Vector3d::Zero(), mu_target = Eigen::Vector3d::Zero();
+};
+
+std::optional<UmeyamaDetails> Umeyama(const std::vector<Eigen::Vector3d>& source,
+                                      const std::vector<Eigen::Vector3d>& target,
+                                      AlignmentMode mode) {
+  if (source.size() != target.size() || source.empty()) return std::nullopt;
+  UmeyamaDetails d;
+  Similarity& S = d.S;
+  if (mode == AlignmentMode::kNone) return d;
   const double n = static_cast<double>(source.size());
-  Eigen::Vector3d mu_s = Eigen::Vector3d::Zero(), mu_t = Eigen::Vector3d::Zero();
+  Eigen::Vector3d& mu_s = d.mu_source;
+  Eigen::Vector3d& mu_t = d.mu_target;
   for (std::size_t i = 0; i < source.size(); ++i) {
     mu_s += source[i];
     mu_t += target[i];
@@ -60,10 +73,48 @@ std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& s
     if (U.determinant() * V.determinant() < 0.0) w(2) = -1.0;  // singular values are descending
     S.R = U * w.asDiagonal() * V.transpose();
     if (mode == AlignmentMode::kSim3) S.scale = svd.singularValues().dot(w) / sigma_s;
+    d.singular_values = svd.singularValues();
+    d.source_direction = V.col(0);
   }
   S.t = mu_t - S.scale * (S.R * mu_s);
   if (!S.R.allFinite() || !S.t.allFinite() || !std::isfinite(S.scale)) return std::nullopt;
-  return S;
+  return d;
+}
+
+}  // namespace
+
+std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& source,
+                                           const std::vector<Eigen::Vector3d>& target,
+                                           AlignmentMode mode) {
+  const std::optional<UmeyamaDetails> d = Umeyama(source, target, mode);
+  if (!d) return std::nullopt;
+  return d->S;
+}
+
+std::optional<TrajectoryAlignment> AlignTrajectory(const std::vector<SE3d>& est,
+                                                   const std::vector<SE3d>& gt,
+                                                   AlignmentMode mode) {
+  const std::optional<UmeyamaDetails> d = Umeyama(Positions(est), Positions(gt), mode);
+  if (!d) return std::nullopt;
+  TrajectoryAlignment a;
+  a.S = d->S;
+  if (mode == AlignmentMode::kNone) return a;
+  const Eigen::Vector3d& sv = d->singular_values;
+  if (!(sv(1) < kCollinearRatio * sv(0))) return a;
+  // Roll about the estimate's line direction u from the orientations (see the header).
+  const Eigen::Vector3d u = d->source_direction.normalized();
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    M += est[i].RotationMatrix() * gt[i].RotationMatrix().transpose();
+  }
+  M = M * a.S.R;
+  const double a_cos = M.trace() - u.dot(M * u);
+  const double b_sin = (M * Hat<double>(u)).trace();
+  const double phi = std::atan2(b_sin, a_cos);
+  a.S.R = a.S.R * Eigen::AngleAxisd(phi, u).toRotationMatrix();
+  a.S.t = d->mu_target - a.S.scale * (a.S.R * d->mu_source);
+  a.roll_from_orientations = true;
+  return a;
 }
 
 std::vector<Eigen::Vector3d> Positions(const std::vector<SE3d>& poses) {

@@ -43,6 +43,22 @@ std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& s
                                            const std::vector<Eigen::Vector3d>& target,
                                            AlignmentMode mode);
 
+// Aligns an estimated trajectory to the ground truth: Umeyama on the positions, except that for
+// (nearly) collinear positions -- a straight drive, where the second singular value of C is below
+// `kCollinearRatio` times the first -- the positions do not fix the rotation about the line (roll),
+// and noise would pick it arbitrarily (tens of degrees of fake rotation error). There the roll
+// about the estimate's principal direction u is chosen to best agree with the orientations:
+//   R' = R Rot(u, phi),  phi = argmax sum_i trace(R_gt_i^T R' R_est_i) = atan2(b, a),
+//   M = sum_i R_est_i R_gt_i^T R,  a = trace(M) - u^T M u,  b = trace(M [u]x),
+// which leaves the fit along the line, and hence the positional error, (nearly) unchanged.
+struct TrajectoryAlignment {
+  Similarity S;                         // est -> gt
+  bool roll_from_orientations = false;  // the collinear case above was used
+};
+constexpr double kCollinearRatio = 1e-2;
+std::optional<TrajectoryAlignment> AlignTrajectory(const std::vector<SE3d>& est,
+                                                   const std::vector<SE3d>& gt, AlignmentMode mode);
+
 std::vector<Eigen::Vector3d> Positions(const std::vector<SE3d>& poses);
 
 }  // namespace eval

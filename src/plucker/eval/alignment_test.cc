@@ -111,6 +111,43 @@ TEST(Umeyama, CollinearPointsAlignAndDegenerateInputsAreRejected) {
   EXPECT_EQ(none->t, Eigen::Vector3d::Zero());
 }
 
+TEST(AlignTrajectory, StraightDriveTakesTheRollFromTheOrientations) {
+  // Exactly collinear positions: Umeyama cannot see a rotation about the line. The estimate is a
+  // rigidly moved copy, so the right alignment makes every orientation agree too.
+  verify::Rng rng(15);
+  std::vector<SE3d> gt, est;
+  Similarity truth;
+  truth.R = verify::RandomRotation(rng).toRotationMatrix();
+  truth.t = Eigen::Vector3d(3, -2, 7);
+  for (int i = 0; i < 40; ++i) {
+    gt.emplace_back(Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitZ())),
+                    Eigen::Vector3d(0, 0, 1.3 * i));
+    est.push_back(truth.Apply(gt.back()));
+  }
+  for (AlignmentMode mode : {AlignmentMode::kSE3, AlignmentMode::kSim3}) {
+    const std::optional<TrajectoryAlignment> a = AlignTrajectory(est, gt, mode);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_TRUE(a->roll_from_orientations);
+    for (std::size_t i = 0; i < gt.size(); ++i) {
+      const SE3d aligned = a->S.Apply(est[i]);
+      EXPECT_LT((aligned.translation() - gt[i].translation()).norm(), 1e-9);
+      EXPECT_LT((aligned.RotationMatrix() - gt[i].RotationMatrix()).norm(), 1e-9);
+    }
+  }
+  // A well-spread trajectory keeps the plain Umeyama solution.
+  std::vector<SE3d> curve_gt, curve_est;
+  for (int i = 0; i < 40; ++i) {
+    curve_gt.emplace_back(Eigen::Quaterniond::Identity(),
+                          Eigen::Vector3d(10 * std::sin(0.1 * i), 0, 10 * std::cos(0.1 * i)));
+    curve_est.push_back(truth.Apply(curve_gt.back()));
+  }
+  const std::optional<TrajectoryAlignment> b =
+      AlignTrajectory(curve_est, curve_gt, AlignmentMode::kSE3);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_FALSE(b->roll_from_orientations);
+  EXPECT_LT((b->S.R - truth.R.transpose()).norm(), 1e-9);
+}
+
 TEST(Umeyama, ApplyToPoseRotatesAndScales) {
   Similarity S;
   S.R = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).matrix();

@@ -17,14 +17,16 @@ AteResult ComputeAte(const std::vector<SE3d>& gt, const std::vector<SE3d>& est,
                                 std::to_string(gt.size()) + " and " + std::to_string(est.size()));
   }
   const std::vector<Eigen::Vector3d> p_gt = Positions(gt);
-  const std::optional<Similarity> S = UmeyamaAlignment(Positions(est), p_gt, options.align);
-  if (!S) {
+  const std::optional<TrajectoryAlignment> alignment = AlignTrajectory(est, gt, options.align);
+  if (!alignment) {
     throw std::invalid_argument("cannot align with " + AlignmentName(options.align) +
                                 ": the estimate positions all coincide (scale undefined)");
   }
   AteResult r;
   r.align = options.align;
+  const Similarity* S = &alignment->S;
   r.alignment = *S;
+  r.roll_from_orientations = alignment->roll_from_orientations;
   r.distance = PathDistances(p_gt);
   r.aligned_estimate.reserve(est.size());
   for (std::size_t i = 0; i < est.size(); ++i) {

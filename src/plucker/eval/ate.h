@@ -19,8 +19,9 @@ struct AteOptions {
 
 struct AteResult {
   AlignmentMode align = AlignmentMode::kSE3;
-  Similarity alignment;           // est -> gt
-  ErrorStatistics translation_m;  // the ATE (its rmse is the usual single number)
+  Similarity alignment;                 // est -> gt
+  bool roll_from_orientations = false;  // collinear positions: see AlignTrajectory
+  ErrorStatistics translation_m;        // the ATE (its rmse is the usual single number)
   ErrorStatistics rotation_deg;
   std::vector<double> translation_errors;   // per pose, metres
   std::vector<double> rotation_errors_deg;  // per pose

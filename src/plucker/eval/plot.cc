@@ -387,9 +387,22 @@ std::string RenderTrajectoryPlotSvg(const TrajectoryPlot& plot) {
   } else {
     s << "<rect x=\"" << F(right.px) << "\" y=\"" << F(right.py) << "\" width=\"" << F(right.pw)
       << "\" height=\"" << F(right.ph) << "\" fill=\"#fafafa\" stroke=\"" << kAxisColor << "\"/>\n";
-    Text(s, right.px + right.pw / 2, right.py + right.ph / 2,
-         plot.error_message.empty() ? "nothing to plot" : plot.error_message, 14, "middle",
-         "fill=\"#aa3333\"");
+    // Word-wrapped message (about 7.5 px a character at 14 px).
+    const std::string message = plot.error_message.empty() ? "nothing to plot" : plot.error_message;
+    const std::size_t max_chars = static_cast<std::size_t>(std::max(10.0, right.pw / 7.8));
+    std::vector<std::string> lines(1);
+    std::istringstream words(message);
+    for (std::string word; words >> word;) {
+      if (!lines.back().empty() && lines.back().size() + 1 + word.size() > max_chars) {
+        lines.emplace_back();
+      }
+      lines.back() += (lines.back().empty() ? "" : " ") + word;
+    }
+    const double y_first = right.py + right.ph / 2 - 10.0 * (lines.size() - 1);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      Text(s, right.px + right.pw / 2, y_first + 20.0 * i, lines[i], 14, "middle",
+           "fill=\"#aa3333\"");
+    }
   }
   s << "</svg>\n";
   return s.str();

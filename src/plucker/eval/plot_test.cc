@@ -70,9 +70,12 @@ TEST(Plot, SvgHasBothPanelsLegendMarkersAndEscapedText) {
 TEST(Plot, EmptyErrorPanelShowsTheMessage) {
   TrajectoryPlot plot = SomePlot();
   plot.error_series.clear();
-  plot.error_message = "no segment: path 13 m";
+  plot.error_message =
+      "no segment: path 13 m, a long message that must wrap onto more lines "
+      "than one so that it stays inside the panel of the figure";
   const std::string svg = RenderTrajectoryPlotSvg(plot);
   EXPECT_NE(svg.find("no segment: path 13 m"), std::string::npos);
+  EXPECT_GE(Count(svg, "fill=\"#aa3333\""), 2);  // wrapped
   EXPECT_EQ(Count(svg, "<polyline"), 2);
 }
 

@@ -21,14 +21,16 @@ RpeResult ComputeRpe(const std::vector<SE3d>& gt, const std::vector<SE3d>& est,
                                 std::string(frames ? "whole number of frames" : "distance"));
   }
   const std::vector<Eigen::Vector3d> p_gt = Positions(gt);
-  const std::optional<Similarity> S = UmeyamaAlignment(Positions(est), p_gt, options.align);
-  if (!S) {
+  const std::optional<TrajectoryAlignment> alignment = AlignTrajectory(est, gt, options.align);
+  if (!alignment) {
     throw std::invalid_argument("cannot align with " + AlignmentName(options.align) +
                                 ": the estimate positions all coincide (scale undefined)");
   }
   RpeResult r;
   r.options = options;
+  const Similarity* S = &alignment->S;
   r.alignment = *S;
+  r.roll_from_orientations = alignment->roll_from_orientations;
   for (const SE3d& T : est) r.aligned_estimate.push_back(S->Apply(T));
   const std::vector<double> dist = PathDistances(p_gt);
   const int n = static_cast<int>(gt.size());

@@ -28,7 +28,8 @@ struct RpeOptions {
 
 struct RpeResult {
   RpeOptions options;
-  Similarity alignment;  // est -> gt (identity for kNone)
+  Similarity alignment;                 // est -> gt (identity for kNone)
+  bool roll_from_orientations = false;  // collinear positions: see AlignTrajectory
   ErrorStatistics translation_m;
   ErrorStatistics rotation_deg;
   std::vector<int> first, last;             // the frame pairs

@@ -20,7 +20,8 @@ void Require(bool ok, const char* factor, const std::string& what) {
 }
 
 double CheckSigma(const char* factor, double sigma) {
-  Require(std::isfinite(sigma) && sigma > 0.0, factor, "sigma must be finite and > 0");
+  Require(std::isfinite(sigma) && sigma > 0.0 && std::isfinite(1.0 / sigma), factor,
+          "sigma must be finite and > 0");
   return 1.0 / sigma;
 }
 
@@ -30,6 +31,7 @@ Eigen::Vector3d EdgeDirection(const char* factor, const Eigen::Vector3d& p_s,
   Require(Finite(p_s) && Finite(a_w) && Finite(b_w), factor, "non-finite point");
   const double length = (a_w - b_w).norm();
   const double scale = 1.0 + std::max(a_w.norm(), b_w.norm());
+  Require(std::isfinite(length), factor, "edge points too far apart (overflow)");
   Require(length > 1e-12 * scale, factor, "edge points a and b coincide");
   return (a_w - b_w) / length;
 }

@@ -3,12 +3,15 @@
 //
 // A scan point p_s is mapped to the world by p_w = R p_s + t. The residuals (docs/math/
 // lidar-and-point-factors.md derives each Jacobian):
-//   PointToPlaneFactor       r = m_w . (p_w - q_w) / sigma                      (1, signed distance)
-//   PointToEdgeFactor        r = Y / sigma, Y = (p_w - b) x (p_w - a) / |a - b| (3, |Y| = distance)
+//   PointToPlaneFactor       r = m_w . (p_w - q_w) / sigma                      (1, signed
+//   distance) PointToEdgeFactor        r = Y / sigma, Y = (p_w - b) x (p_w - a) / |a - b| (3, |Y| =
+//   distance)
 //                              = u x (p_w - a),  u = (a - b)/|a - b|
-//   PointToEdge2Factor       r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma        (2, |r| = distance)
+//   PointToEdge2Factor       r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma        (2, |r| =
+//   distance)
 //                              e1, e2 orthonormal, both orthogonal to u (fixed at construction)
-//   PointToEdgeScalarFactor  r = |Y| / sigma  (classic LOAM; kink at zero distance, comparison only)
+//   PointToEdgeScalarFactor  r = |Y| / sigma  (classic LOAM; kink at zero distance, comparison
+//   only)
 //
 // Jacobians are written w.r.t. the AMBIENT 7 parameters: J_ambient = J_tangent * MinusJacobian(x)
 // (the exact derivative of the same residual with the quaternion normalised). Every Create() has a
@@ -21,9 +24,10 @@
 // Evaluate returns false for non-finite parameters (including a zero quaternion).
 //
 // Scalar edge at zero distance: |Y| is not differentiable at Y = 0. Evaluate returns residual 0
-// and a ZERO Jacobian there (0 is in the subdifferential of |.| at 0, so it is a valid subgradient),
-// never NaN. Such a residual gives Gauss-Newton no information at the very configuration every
-// converged correspondence approaches, which is why the smooth vector forms are preferred.
+// and a ZERO Jacobian there (0 is in the subdifferential of |.| at 0, so it is a valid
+// subgradient), never NaN. Such a residual gives Gauss-Newton no information at the very
+// configuration every converged correspondence approaches, which is why the smooth vector forms are
+// preferred.
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
@@ -102,8 +106,7 @@ class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7> {
   // m_w: unit normal (|m| within 1e-6 of 1), q_w: any point on the plane, sigma > 0 [m].
   static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
                                      const Eigen::Vector3d& q_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                             const Eigen::Vector3d& m_w,
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
                                              const Eigen::Vector3d& q_w, double sigma = 1.0);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -120,8 +123,7 @@ class PointToEdgeFactor : public ceres::SizedCostFunction<3, 7> {
  public:
   static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                      const Eigen::Vector3d& b_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                             const Eigen::Vector3d& a_w,
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                              const Eigen::Vector3d& b_w, double sigma = 1.0);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -136,8 +138,7 @@ class PointToEdge2Factor : public ceres::SizedCostFunction<2, 7> {
  public:
   static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                      const Eigen::Vector3d& b_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                             const Eigen::Vector3d& a_w,
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                              const Eigen::Vector3d& b_w, double sigma = 1.0);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -154,8 +155,7 @@ class PointToEdgeScalarFactor : public ceres::SizedCostFunction<1, 7> {
  public:
   static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                      const Eigen::Vector3d& b_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                             const Eigen::Vector3d& a_w,
+  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                              const Eigen::Vector3d& b_w, double sigma = 1.0);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;

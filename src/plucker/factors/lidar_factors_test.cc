@@ -67,6 +67,9 @@ TEST(LidarFactors, CreateRejectsBadInput) {
     EXPECT_THROW(CostPtr(create(p, a, a, 1.0)), std::invalid_argument);
     EXPECT_THROW(CostPtr(create(p, a, b, 0.0)), std::invalid_argument);
     EXPECT_THROW(CostPtr(create(p, a, b, -2.0)), std::invalid_argument);
+    EXPECT_THROW(CostPtr(create(p, a, b, 1e-320)), std::invalid_argument);  // 1/sigma overflows
+    EXPECT_THROW(CostPtr(create(p, Vector3d(-1e308, 0, 0), Vector3d(1e308, 0, 0), 1.0)),
+                 std::invalid_argument);
     EXPECT_NO_THROW(CostPtr(create(p, a, Vector3d(1e-9, 0, 0), 1.0)));
   };
   edge_cases(PointToEdgeFactor::Create);
@@ -146,7 +149,7 @@ TEST(LidarFactors, JacobianChecksPass) {
   for (const auto& check : verify::LidarFactorJacobianChecks()) {
     const verify::JacobianCheckStats s = check.run(options);
     EXPECT_TRUE(s.passed()) << s.first_failure;
-    EXPECT_GE(s.samples, options.samples - 2) << check.name;
+    EXPECT_EQ(s.samples, options.samples) << check.name;
     EXPECT_LT(s.worst_autodiff, 1e-9) << check.name;
     EXPECT_LT(s.worst_numeric, 1e-6) << check.name;
   }
@@ -157,9 +160,10 @@ TEST(LidarFactors, GradientCheckerWithPoseManifold) {
   PoseManifold manifold;
   const std::vector<const ceres::Manifold*> manifolds = {&manifold};
   ceres::NumericDiffOptions options;
-  // Ceres' checker uses Ridders' method in ambient coordinates; its default first step (1e-2 of
-  // each quaternion coefficient) stops early on these 1-row residuals (also for the autodiff
-  // twins); a smaller first step converges.
+  // Ceres' checker uses Ridders' method; with its default first step (1e-2 of each value) its
+  // numeric rotation columns were off by up to ~1e-3 relative on these 1-row residuals, for the
+  // autodiff twins (also probed below) exactly as for the analytic factors. A smaller first step
+  // makes the reference accurate.
   options.ridders_relative_initial_step_size = 1e-4;
   for (int i = 0; i < 20; ++i) {
     const SE3d T = i == 0 ? SE3d(verify::RotationNearPi(rng, 0.0), Vector3d(1, 2, 3))
@@ -179,7 +183,8 @@ TEST(LidarFactors, GradientCheckerWithPoseManifold) {
     for (const auto& f : factors) {
       ceres::GradientChecker checker(f.get(), &manifolds, options);
       ceres::GradientChecker::ProbeResults results;
-      EXPECT_TRUE(checker.Probe(params, 1e-7, &results)) << "factor " << (&f - &factors[0]) << "\n" << results.error_log;
+      EXPECT_TRUE(checker.Probe(params, 1e-7, &results)) << "factor " << (&f - &factors[0]) << "\n"
+                                                         << results.error_log;
     }
   }
 }
@@ -190,7 +195,7 @@ enum class EdgeForm { kVector3, kVector2 };
 
 struct Scene {
   SE3d T_w_s_true;
-  std::vector<std::pair<Vector3d, std::pair<Vector3d, Vector3d>>> edges;  // p_s, (a_w, b_w)
+  std::vector<std::pair<Vector3d, std::pair<Vector3d, Vector3d>>> edges;   // p_s, (a_w, b_w)
   std::vector<std::pair<Vector3d, std::pair<Vector3d, Vector3d>>> planes;  // p_s, (m_w, q_w)
 };
 
@@ -198,16 +203,18 @@ struct Scene {
 // them in the world, expressed in the scan frame, optionally with Gaussian noise.
 Scene MakeScene(verify::Rng& rng, double noise) {
   Scene s;
-  s.T_w_s_true = SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Vector3d(0.1, 0.2, 1).normalized())),
-                      Vector3d(3.0, -2.0, 1.5));
+  s.T_w_s_true =
+      SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Vector3d(0.1, 0.2, 1).normalized())),
+           Vector3d(3.0, -2.0, 1.5));
   const SE3d T_s_w = s.T_w_s_true.Inverse();
   std::normal_distribution<double> gauss(0.0, noise > 0 ? noise : 1.0);
   auto add_noise = [&](const Vector3d& p) {
     return noise > 0 ? Vector3d(p + Vector3d(gauss(rng), gauss(rng), gauss(rng))) : p;
   };
-  const std::vector<std::pair<Vector3d, double>> planes = {
-      {Vector3d(0, 0, 1), 0.0}, {Vector3d(1, 0, 0), 12.0}, {Vector3d(0, 1, 0), -9.0},
-      {Vector3d(1, 1, 0).normalized(), -15.0}};
+  const std::vector<std::pair<Vector3d, double>> planes = {{Vector3d(0, 0, 1), 0.0},
+                                                           {Vector3d(1, 0, 0), 12.0},
+                                                           {Vector3d(0, 1, 0), -9.0},
+                                                           {Vector3d(1, 1, 0).normalized(), -15.0}};
   for (const auto& [m, e] : planes) {  // m.x + e = 0
     const Vector3d origin = -e * m;
     const Vector3d t1 = m.unitOrthogonal(), t2 = m.cross(t1);
@@ -226,7 +233,8 @@ Scene MakeScene(verify::Rng& rng, double noise) {
   for (const auto& [c, d] : lines) {
     for (int k = 0; k < 60; ++k) {
       const Vector3d p_w = c + verify::Uniform(rng, -5, 5) * d;
-      const Vector3d a = c + verify::Uniform(rng, -1, 0) * d, b = c + verify::Uniform(rng, 0.2, 1) * d;
+      const Vector3d a = c + verify::Uniform(rng, -1, 0) * d,
+                     b = c + verify::Uniform(rng, 0.2, 1) * d;
       s.edges.push_back({add_noise(T_s_w * p_w), {a, b}});
     }
   }
@@ -262,7 +270,8 @@ SE3d Solve(const Scene& scene, const SE3d& initial, EdgeForm form, double sigma)
 
 SE3d Perturb(const SE3d& T, verify::Rng& rng) {
   Vector6d delta;
-  delta << verify::RandomUnitVector(rng) * (5.0 * M_PI / 180.0), verify::RandomUnitVector(rng) * 0.3;
+  delta << verify::RandomUnitVector(rng) * (5.0 * M_PI / 180.0),
+      verify::RandomUnitVector(rng) * 0.3;
   return T.Plus(delta);
 }
 

@@ -42,7 +42,7 @@ Eigen::Matrix<double, 6, 7> PoseMinusJacobian(const SE3d& pose) {
 }
 
 // The residual of a camera-frame line and, if d_r_d_Lc is given, its 2x6 Jacobian (weighted).
-bool ResidualFromCameraLine(const LineObservation& obs, const Line6d& L_c, double* residuals,
+bool ResidualFromCameraLine(const LineSegmentMeasurement& obs, const Line6d& L_c, double* residuals,
                             Eigen::Matrix<double, 2, 6>* d_r_d_Lc) {
   if (LineThroughCameraCentre<double>(L_c)) return false;
   const Eigen::Vector3d l = obs.K_line * L_c.head<3>();
@@ -62,9 +62,10 @@ bool ResidualFromCameraLine(const LineObservation& obs, const Line6d& L_c, doubl
 
 }  // namespace
 
-LineObservation MakeLineObservation(const PinholeIntrinsics& K, const Eigen::Vector2d& s_px,
-                                    const Eigen::Vector2d& e_px,
-                                    const Eigen::Matrix2d& sqrt_information) {
+LineSegmentMeasurement MakeLineSegmentMeasurement(const PinholeIntrinsics& K,
+                                                  const Eigen::Vector2d& s_px,
+                                                  const Eigen::Vector2d& e_px,
+                                                  const Eigen::Matrix2d& sqrt_information) {
   if (!K.IsValid()) throw std::invalid_argument("line factor: invalid pinhole intrinsics");
   if (!s_px.allFinite() || !e_px.allFinite()) {
     throw std::invalid_argument("line factor: non-finite segment endpoint");
@@ -75,7 +76,7 @@ LineObservation MakeLineObservation(const PinholeIntrinsics& K, const Eigen::Vec
   if (!sqrt_information.allFinite()) {
     throw std::invalid_argument("line factor: non-finite square-root information");
   }
-  return LineObservation{LineIntrinsics(K), s_px, e_px, sqrt_information};
+  return LineSegmentMeasurement{LineIntrinsics(K), s_px, e_px, sqrt_information};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -84,14 +85,14 @@ ceres::CostFunction* LineReprojectionFactor::Create(const PinholeIntrinsics& K,
                                                     const Eigen::Vector2d& s_px,
                                                     const Eigen::Vector2d& e_px,
                                                     const Eigen::Matrix2d& sqrt_information) {
-  return new LineReprojectionFactor(MakeLineObservation(K, s_px, e_px, sqrt_information));
+  return new LineReprojectionFactor(MakeLineSegmentMeasurement(K, s_px, e_px, sqrt_information));
 }
 
 ceres::CostFunction* LineReprojectionFactor::CreateAutoDiff(
     const PinholeIntrinsics& K, const Eigen::Vector2d& s_px, const Eigen::Vector2d& e_px,
     const Eigen::Matrix2d& sqrt_information) {
   return new ceres::AutoDiffCostFunction<LineReprojectionResidual, 2, 7, 6>(
-      new LineReprojectionResidual(MakeLineObservation(K, s_px, e_px, sqrt_information)));
+      new LineReprojectionResidual(MakeLineSegmentMeasurement(K, s_px, e_px, sqrt_information)));
 }
 
 bool LineReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
@@ -128,14 +129,14 @@ ceres::CostFunction* LineReprojectionFactorVI::Create(const PinholeIntrinsics& K
                                                       const Eigen::Vector2d& s_px,
                                                       const Eigen::Vector2d& e_px,
                                                       const Eigen::Matrix2d& sqrt_information) {
-  return new LineReprojectionFactorVI(MakeLineObservation(K, s_px, e_px, sqrt_information));
+  return new LineReprojectionFactorVI(MakeLineSegmentMeasurement(K, s_px, e_px, sqrt_information));
 }
 
 ceres::CostFunction* LineReprojectionFactorVI::CreateAutoDiff(
     const PinholeIntrinsics& K, const Eigen::Vector2d& s_px, const Eigen::Vector2d& e_px,
     const Eigen::Matrix2d& sqrt_information) {
   return new ceres::AutoDiffCostFunction<LineReprojectionResidualVI, 2, 7, 7, 6>(
-      new LineReprojectionResidualVI(MakeLineObservation(K, s_px, e_px, sqrt_information)));
+      new LineReprojectionResidualVI(MakeLineSegmentMeasurement(K, s_px, e_px, sqrt_information)));
 }
 
 bool LineReprojectionFactorVI::Evaluate(double const* const* parameters, double* residuals,

@@ -42,7 +42,7 @@ namespace plucker {
 constexpr double kMinSegmentLengthPx = 1e-6;
 
 // The measurement shared by both factors (validated by the constructors).
-struct LineObservation {
+struct LineSegmentMeasurement {
   Eigen::Matrix3d K_line;
   Eigen::Vector2d s_px;
   Eigen::Vector2d e_px;
@@ -50,11 +50,12 @@ struct LineObservation {
 };
 
 // Throws std::invalid_argument as documented above.
-LineObservation MakeLineObservation(const PinholeIntrinsics& K, const Eigen::Vector2d& s_px,
-                                    const Eigen::Vector2d& e_px,
-                                    const Eigen::Matrix2d& sqrt_information);
+LineSegmentMeasurement MakeLineSegmentMeasurement(const PinholeIntrinsics& K,
+                                                  const Eigen::Vector2d& s_px,
+                                                  const Eigen::Vector2d& e_px,
+                                                  const Eigen::Matrix2d& sqrt_information);
 
-// Autodiff twins: the same residual written with templated value functions.
+namespace line_factor_internal {
 // A pose block with a zero quaternion or a line block with a zero q or W cannot be normalised.
 template <typename T>
 bool HasZeroQuaternion(const T* p) {
@@ -64,11 +65,15 @@ template <typename T>
 bool IsDegenerateLineBlock(const T* p) {
   return HasZeroQuaternion(p) || !(p[4] * p[4] + p[5] * p[5] > T(0));
 }
+}  // namespace line_factor_internal
+
+// Autodiff twins: the same residual written with the templated value functions.
 
 struct LineReprojectionResidual {
-  explicit LineReprojectionResidual(const LineObservation& obs) : obs_(obs) {}
+  explicit LineReprojectionResidual(const LineSegmentMeasurement& obs) : obs_(obs) {}
   template <typename T>
   bool operator()(const T* T_w_c, const T* line, T* residual) const {
+    using namespace line_factor_internal;
     if (HasZeroQuaternion(T_w_c) || IsDegenerateLineBlock(line)) return false;
     const Line6<T> L_w = PluckerFromOrthonormal<T>(line);
     const Line6<T> L_c = LineWorldToCamera<T>(SE3<T>::FromParameters(T_w_c), L_w);
@@ -87,13 +92,14 @@ struct LineReprojectionResidual {
     residual[1] = weighted(1);
     return true;
   }
-  LineObservation obs_;
+  LineSegmentMeasurement obs_;
 };
 
 struct LineReprojectionResidualVI {
-  explicit LineReprojectionResidualVI(const LineObservation& obs) : base_(obs) {}
+  explicit LineReprojectionResidualVI(const LineSegmentMeasurement& obs) : base_(obs) {}
   template <typename T>
   bool operator()(const T* T_w_b, const T* T_b_c, const T* line, T* residual) const {
+    using namespace line_factor_internal;
     if (HasZeroQuaternion(T_w_b) || HasZeroQuaternion(T_b_c) || IsDegenerateLineBlock(line)) {
       return false;
     }
@@ -107,7 +113,7 @@ struct LineReprojectionResidualVI {
 
 class LineReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 6> {
  public:
-  explicit LineReprojectionFactor(const LineObservation& obs) : obs_(obs) {}
+  explicit LineReprojectionFactor(const LineSegmentMeasurement& obs) : obs_(obs) {}
 
   static ceres::CostFunction* Create(const PinholeIntrinsics& K, const Eigen::Vector2d& s_px,
                                      const Eigen::Vector2d& e_px,
@@ -121,12 +127,12 @@ class LineReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 6> {
                 double** jacobians) const override;
 
  private:
-  const LineObservation obs_;
+  const LineSegmentMeasurement obs_;
 };
 
 class LineReprojectionFactorVI final : public ceres::SizedCostFunction<2, 7, 7, 6> {
  public:
-  explicit LineReprojectionFactorVI(const LineObservation& obs) : obs_(obs) {}
+  explicit LineReprojectionFactorVI(const LineSegmentMeasurement& obs) : obs_(obs) {}
 
   static ceres::CostFunction* Create(const PinholeIntrinsics& K, const Eigen::Vector2d& s_px,
                                      const Eigen::Vector2d& e_px,
@@ -140,7 +146,7 @@ class LineReprojectionFactorVI final : public ceres::SizedCostFunction<2, 7, 7, 
                 double** jacobians) const override;
 
  private:
-  const LineObservation obs_;
+  const LineSegmentMeasurement obs_;
 };
 
 }  // namespace plucker

@@ -43,7 +43,8 @@ ceres::CostFunction* PointReprojectionFactor::Create(const PinholeIntrinsics& K,
 }
 
 ceres::CostFunction* PointReprojectionFactor::CreateAutoDiff(
-    const PinholeIntrinsics& K, const Eigen::Vector2d& uv, const Eigen::Matrix2d& sqrt_information) {
+    const PinholeIntrinsics& K, const Eigen::Vector2d& uv,
+    const Eigen::Matrix2d& sqrt_information) {
   return new ceres::AutoDiffCostFunction<PointReprojectionResidual, 2, 7, 3>(
       new PointReprojectionResidual{MakePointObservation(K, uv, sqrt_information)});
 }
@@ -87,7 +88,8 @@ ceres::CostFunction* PointReprojectionFactorVI::Create(const PinholeIntrinsics& 
 }
 
 ceres::CostFunction* PointReprojectionFactorVI::CreateAutoDiff(
-    const PinholeIntrinsics& K, const Eigen::Vector2d& uv, const Eigen::Matrix2d& sqrt_information) {
+    const PinholeIntrinsics& K, const Eigen::Vector2d& uv,
+    const Eigen::Matrix2d& sqrt_information) {
   return new ceres::AutoDiffCostFunction<PointReprojectionResidualVI, 2, 7, 7, 3>(
       new PointReprojectionResidualVI{{MakePointObservation(K, uv, sqrt_information)}});
 }

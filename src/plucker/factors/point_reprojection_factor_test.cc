@@ -43,8 +43,9 @@ TEST(PointReprojectionFactor, CreateRejectsBadInput) {
   nan_k.cy = kNaN;
   Eigen::Matrix2d bad_S = S;
   bad_S(0, 1) = kNaN;
-  for (auto create : {PointReprojectionFactor::Create, PointReprojectionFactor::CreateAutoDiff,
-                      PointReprojectionFactorVI::Create, PointReprojectionFactorVI::CreateAutoDiff}) {
+  for (auto create :
+       {PointReprojectionFactor::Create, PointReprojectionFactor::CreateAutoDiff,
+        PointReprojectionFactorVI::Create, PointReprojectionFactorVI::CreateAutoDiff}) {
     EXPECT_THROW(CostPtr(create(bad, uv, S)), std::invalid_argument);
     EXPECT_THROW(CostPtr(create(nan_k, uv, S)), std::invalid_argument);
     EXPECT_THROW(CostPtr(create(K, Vector2d(kNaN, 1), S)), std::invalid_argument);
@@ -76,7 +77,8 @@ TEST(PointReprojectionFactor, ResidualMatchesProjection) {
 
 TEST(PointReprojectionFactor, EvaluateRejectsBadParameters) {
   const PinholeIntrinsics K = TestCamera();
-  const CostPtr f(PointReprojectionFactor::Create(K, Vector2d(320, 240), Eigen::Matrix2d::Identity()));
+  const CostPtr f(
+      PointReprojectionFactor::Create(K, Vector2d(320, 240), Eigen::Matrix2d::Identity()));
   const CostPtr f_vi(
       PointReprojectionFactorVI::Create(K, Vector2d(320, 240), Eigen::Matrix2d::Identity()));
   double pose[7] = {0, 0, 0, 1, 0, 0, 0};
@@ -163,7 +165,8 @@ TEST(PointReprojectionFactorVI, ConstantExtrinsicJacobianMayBeOmitted) {
   const PinholeIntrinsics K = TestCamera();
   const SE3d T_w_b = verify::RandomPose(rng), T_b_c = verify::RandomPose(rng, 0.2);
   const Vector3d p_w = T_w_b * (T_b_c * Vector3d(0.3, -0.2, 4.0));
-  const CostPtr f(PointReprojectionFactorVI::Create(K, Vector2d(300, 250), Eigen::Matrix2d::Identity()));
+  const CostPtr f(
+      PointReprojectionFactorVI::Create(K, Vector2d(300, 250), Eigen::Matrix2d::Identity()));
   double x_wb[7], x_bc[7];
   T_w_b.ToParameters(x_wb);
   T_b_c.ToParameters(x_bc);
@@ -202,8 +205,8 @@ TEST(PointReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   ceres::Problem problem;
   for (size_t i = 0; i < points.size(); ++i) {
     problem.AddResidualBlock(
-        PointReprojectionFactorVI::Create(K, pixels[i], Eigen::Matrix2d::Identity()), nullptr,
-        x_wb, x_bc, points[i].data());
+        PointReprojectionFactorVI::Create(K, pixels[i], Eigen::Matrix2d::Identity()), nullptr, x_wb,
+        x_bc, points[i].data());
     problem.SetParameterBlockConstant(points[i].data());
   }
   problem.SetManifold(x_wb, new PoseManifold);

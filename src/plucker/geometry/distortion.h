@@ -41,9 +41,8 @@ Eigen::Matrix<T, 2, 1> DistortT(const RadTanDistortion& D, const Eigen::Matrix<T
   const T x = xn(0), y = xn(1);
   const T r2 = x * x + y * y;
   const T radial = T(1) + r2 * (T(D.k1) + r2 * (T(D.k2) + r2 * T(D.k3)));
-  return Eigen::Matrix<T, 2, 1>(
-      x * radial + T(2 * D.p1) * x * y + T(D.p2) * (r2 + T(2) * x * x),
-      y * radial + T(D.p1) * (r2 + T(2) * y * y) + T(2 * D.p2) * x * y);
+  return Eigen::Matrix<T, 2, 1>(x * radial + T(2 * D.p1) * x * y + T(D.p2) * (r2 + T(2) * x * x),
+                                y * radial + T(D.p1) * (r2 + T(2) * y * y) + T(2 * D.p2) * x * y);
 }
 
 // Distorted normalized coordinates of the ideal normalized point xn, with the 2x2 Jacobian

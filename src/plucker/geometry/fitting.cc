@@ -7,10 +7,14 @@ namespace plucker {
 
 const char* ToString(FitStatus status) {
   switch (status) {
-    case FitStatus::kOk: return "ok";
-    case FitStatus::kTooFewPoints: return "too few points";
-    case FitStatus::kNonFinite: return "non-finite point";
-    case FitStatus::kDegenerate: return "degenerate (coincident or collinear points)";
+    case FitStatus::kOk:
+      return "ok";
+    case FitStatus::kTooFewPoints:
+      return "too few points";
+    case FitStatus::kNonFinite:
+      return "non-finite point";
+    case FitStatus::kDegenerate:
+      return "degenerate (coincident or collinear points)";
   }
   return "unknown";
 }

@@ -57,10 +57,10 @@ struct LineFit {
   Line6d L = Line6d::Zero();  // [n; d], |d| = 1, n = centroid x d, when ok()
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();  // of the covariance (1/N), ascending
-  double linearity_ratio = 0.0;   // lambda1 / lambda2: 0 for exactly collinear points (LOAM
-                                  // accepts an edge when lambda2 > 3 lambda1, i.e. ratio < 1/3)
-  double rms_distance = 0.0;      // RMS of point-line distances (~ sqrt(lambda0 + lambda1))
-  double max_distance = 0.0;      // largest point-line distance
+  double linearity_ratio = 0.0;  // lambda1 / lambda2: 0 for exactly collinear points (LOAM
+                                 // accepts an edge when lambda2 > 3 lambda1, i.e. ratio < 1/3)
+  double rms_distance = 0.0;     // RMS of point-line distances (~ sqrt(lambda0 + lambda1))
+  double max_distance = 0.0;     // largest point-line distance
   int num_points = 0;
   bool ok() const { return status == FitStatus::kOk; }
 };
@@ -95,8 +95,12 @@ bool Moments(It first, It last, int* n, Eigen::Vector3d* centroid, Eigen::Matrix
   double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (It it = first; it != last; ++it) {
     const Eigen::Vector3d q = (*it).template cast<double>() - *centroid;
-    xx += q.x() * q.x(); xy += q.x() * q.y(); xz += q.x() * q.z();
-    yy += q.y() * q.y(); yz += q.y() * q.z(); zz += q.z() * q.z();
+    xx += q.x() * q.x();
+    xy += q.x() * q.y();
+    xz += q.x() * q.z();
+    yy += q.y() * q.y();
+    yz += q.y() * q.z();
+    zz += q.z() * q.z();
   }
   *cov << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   *cov /= *n;

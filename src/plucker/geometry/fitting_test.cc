@@ -101,8 +101,7 @@ TEST(Fitting, LineFitExactAndNoisy) {
   std::normal_distribution<double> noise(0.0, 0.02);
   std::vector<Eigen::Vector3d> noisy;
   for (int i = 0; i < 100; ++i) {
-    noisy.push_back(c + (i * 0.05 - 2.5) * d +
-                    Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+    noisy.push_back(c + (i * 0.05 - 2.5) * d + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
   }
   const LineFit g = FitLine(noisy);
   ASSERT_TRUE(g.ok());
@@ -141,8 +140,9 @@ TEST(Fitting, NormalizePlane) {
 TEST(Fitting, FarFromTheOriginIsAccurate) {
   // KITTI-scale coordinates: the two-pass covariance keeps the small spread exact.
   const Eigen::Vector3d o(4000.0, -2500.0, 30.0);
-  std::vector<Eigen::Vector3d> pts = {o, o + Eigen::Vector3d(0.1, 0, 0), o + Eigen::Vector3d(0, 0.1, 0),
-                                      o + Eigen::Vector3d(0.1, 0.1, 0), o + Eigen::Vector3d(0.05, 0.02, 0)};
+  std::vector<Eigen::Vector3d> pts = {
+      o, o + Eigen::Vector3d(0.1, 0, 0), o + Eigen::Vector3d(0, 0.1, 0),
+      o + Eigen::Vector3d(0.1, 0.1, 0), o + Eigen::Vector3d(0.05, 0.02, 0)};
   const PlaneFit f = FitPlane(pts);
   ASSERT_TRUE(f.ok());
   EXPECT_NEAR(std::abs(f.plane(2)), 1.0, 1e-9);

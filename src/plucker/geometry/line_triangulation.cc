@@ -36,7 +36,8 @@ bool Planes(const PinholeIntrinsics& K, const std::vector<LineObservation>& obs,
   planes->clear();
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!IsFinite(obs[i])) {
-      *result = Fail(*result, Status::kInvalidInput, "non-finite input in view " + std::to_string(i));
+      *result =
+          Fail(*result, Status::kInvalidInput, "non-finite input in view " + std::to_string(i));
       return false;
     }
     const auto pi = BackProjectSegment(K, obs[i].T_w_c, obs[i].start, obs[i].end,
@@ -64,7 +65,9 @@ bool ParallaxOk(const std::vector<Eigen::Vector4d>& planes, const LineTriangulat
       result->max_parallax_rad = std::max(result->max_parallax_rad, a);
     }
   }
-  const double min_angle = options.min_plane_angle_deg * M_PI / 180.0;
+  // Below ~1e-8 rad the planes are equal up to rounding and the line is undefined, whatever the
+  // configured minimum.
+  const double min_angle = std::max(options.min_plane_angle_deg * M_PI / 180.0, 1e-8);
   if (result->max_parallax_rad >= min_angle) return true;
   std::ostringstream msg;
   msg << "largest angle between back-projected planes " << Deg(result->max_parallax_rad)
@@ -119,13 +122,20 @@ LineTriangulationResult Finish(const PinholeIntrinsics& K, const std::vector<Lin
 
 const char* ToString(LineTriangulationStatus status) {
   switch (status) {
-    case Status::kOk: return "ok";
-    case Status::kInvalidInput: return "invalid input";
-    case Status::kTooFewViews: return "too few views";
-    case Status::kSmallParallax: return "small parallax";
-    case Status::kIllConditioned: return "ill-conditioned";
-    case Status::kBehindCamera: return "behind camera";
-    case Status::kDegenerateEndpoint: return "degenerate endpoint";
+    case Status::kOk:
+      return "ok";
+    case Status::kInvalidInput:
+      return "invalid input";
+    case Status::kTooFewViews:
+      return "too few views";
+    case Status::kSmallParallax:
+      return "small parallax";
+    case Status::kIllConditioned:
+      return "ill-conditioned";
+    case Status::kBehindCamera:
+      return "behind camera";
+    case Status::kDegenerateEndpoint:
+      return "degenerate endpoint";
   }
   return "unknown";
 }
@@ -134,8 +144,8 @@ std::optional<Eigen::Vector4d> BackProjectSegment(const PinholeIntrinsics& K, co
                                                   const Eigen::Vector2d& start,
                                                   const Eigen::Vector2d& end,
                                                   double min_length_px) {
-  if (!K.IsValid() || !start.allFinite() || !end.allFinite() ||
-      !T_w_c.translation().allFinite() || !T_w_c.rotation().coeffs().allFinite()) {
+  if (!K.IsValid() || !start.allFinite() || !end.allFinite() || !T_w_c.translation().allFinite() ||
+      !T_w_c.rotation().coeffs().allFinite()) {
     return std::nullopt;
   }
   if (!((end - start).norm() >= min_length_px) || !((end - start).norm() > 0)) return std::nullopt;
@@ -184,8 +194,7 @@ std::optional<SegmentEndpoints> SegmentEndpointsOnLine(const PinholeIntrinsics& 
   return out;
 }
 
-LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K,
-                                               const LineObservation& a,
+LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K, const LineObservation& a,
                                                const LineObservation& b,
                                                const LineTriangulationOptions& options) {
   LineTriangulationResult result;
@@ -224,7 +233,8 @@ LineTriangulationResult TriangulateLine(const PinholeIntrinsics& K,
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
   const Eigen::VectorXd& sigma = svd.singularValues();
-  result.sigma_ratio = n >= 3 ? sigma(2) / sigma(1) : 0.0;
+  // sigma2 = 0 (all planes equal) only passes the parallax check with a zero minimum angle.
+  result.sigma_ratio = n < 3 ? 0.0 : sigma(1) > 0.0 ? sigma(2) / sigma(1) : 1.0;
   if (!(result.sigma_ratio <= options.max_sigma_ratio)) {
     std::ostringstream msg;
     msg << "sigma3 / sigma2 = " << result.sigma_ratio << " > " << options.max_sigma_ratio;

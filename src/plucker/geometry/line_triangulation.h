@@ -32,20 +32,21 @@ struct LineObservation {
 };
 
 struct LineTriangulationOptions {
-  double min_plane_angle_deg = 2.0;  // the largest angle between two back-projected planes must
-                                     // reach this (two-view: the only pair), else kSmallParallax
-  double max_sigma_ratio = 0.5;      // N-view: reject when sigma3 / sigma2 exceeds this
+  double min_plane_angle_deg = 2.0;    // the largest angle between two back-projected planes must
+                                       // reach this (two-view: the only pair), else kSmallParallax;
+                                       // a floor of 1e-8 rad always applies
+  double max_sigma_ratio = 0.5;        // N-view: reject when sigma3 / sigma2 exceeds this
   double min_segment_length_px = 1.0;  // shorter observed segments are rejected (kInvalidInput)
   double min_depth = 1e-3;  // the 3D endpoints must be this far in front of each camera (m)
 };
 
 enum class LineTriangulationStatus {
   kOk,
-  kInvalidInput,     // non-finite input, invalid intrinsics, too-short segment
-  kTooFewViews,      // fewer than two observations
-  kSmallParallax,    // back-projected planes (nearly) coincide: max plane angle < minimum
-  kIllConditioned,   // N-view: sigma3 / sigma2 above max_sigma_ratio (no clear 2D null space)
-  kBehindCamera,     // an endpoint ray meets the line behind (or too close to) its camera
+  kInvalidInput,        // non-finite input, invalid intrinsics, too-short segment
+  kTooFewViews,         // fewer than two observations
+  kSmallParallax,       // back-projected planes (nearly) coincide: max plane angle < minimum
+  kIllConditioned,      // N-view: sigma3 / sigma2 above max_sigma_ratio (no clear 2D null space)
+  kBehindCamera,        // an endpoint ray meets the line behind (or too close to) its camera
   kDegenerateEndpoint,  // an endpoint ray is parallel to the 3D line (no closest point)
 };
 const char* ToString(LineTriangulationStatus status);
@@ -79,8 +80,7 @@ std::optional<Eigen::Vector4d> BackProjectSegment(const PinholeIntrinsics& K, co
 double PlaneAngle(const Eigen::Vector4d& pi1, const Eigen::Vector4d& pi2);
 
 // Two-view triangulation by plane intersection.
-LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K,
-                                               const LineObservation& a,
+LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K, const LineObservation& a,
                                                const LineObservation& b,
                                                const LineTriangulationOptions& options = {});
 

@@ -54,7 +54,8 @@ std::vector<LineObservation> ObserveFromArc(const Eigen::Vector3d& P, const Eige
   std::vector<LineObservation> obs;
   for (int i = 0; i < n; ++i) {
     const double a = -0.6 + 1.2 * i / std::max(1, n - 1);
-    const Eigen::Vector3d c = mid + Eigen::Vector3d(6 * std::sin(a), 0.7 * i - 1.0, -6 * std::cos(a));
+    const Eigen::Vector3d c =
+        mid + Eigen::Vector3d(6 * std::sin(a), 0.7 * i - 1.0, -6 * std::cos(a));
     obs.push_back(Observe(LookAt(c, mid, 0.2 * i), P, Q, rng, sigma_px));
   }
   return obs;
@@ -172,7 +173,8 @@ TEST(LineTriangulation, LineThroughTheOrigin) {
   const Eigen::Vector3d v = Eigen::Vector3d(0.3, -0.8, 0.5).normalized();
   const Eigen::Vector3d P = -1.5 * v, Q = 2.0 * v;
   const auto obs = ObserveFromArc(P, Q, 4);
-  for (const auto& r : {TriangulateLine(TestK(), obs), TriangulateLineTwoView(TestK(), obs[0], obs[3])}) {
+  for (const auto& r :
+       {TriangulateLine(TestK(), obs), TriangulateLineTwoView(TestK(), obs[0], obs[3])}) {
     ExpectExact(r, P, Q);
     EXPECT_LT(r.L_w.head<3>().norm(), 1e-9);
   }
@@ -237,13 +239,24 @@ TEST(LineTriangulation, SmallParallaxWhenBaselineInThePlaneOfTheLine) {
   // The threshold is configurable.
   LineTriangulationOptions o;
   o.min_plane_angle_deg = 0.0;
-  EXPECT_NE(TriangulateLineTwoView(TestK(), obs[0], obs[1], o).status,
-            LineTriangulationStatus::kSmallParallax);
+  obs[1] = Observe(LookAt(Eigen::Vector3d(-2, 6, 0.2), target), P, Q);  // 2 deg out of the plane
+  EXPECT_TRUE(TriangulateLineTwoView(TestK(), obs[0], obs[1], o).ok());
+  // Exactly coplanar views stay rejected (floor of 1e-8 rad), with finite outputs.
+  obs[1] = Observe(LookAt(Eigen::Vector3d(-2, 6, 0), target), P, Q);
+  const auto two = TriangulateLineTwoView(TestK(), obs[0], obs[1], o);
+  EXPECT_EQ(two.status, LineTriangulationStatus::kSmallParallax);
+  EXPECT_TRUE(two.L_w.allFinite());
+  obs.push_back(Observe(LookAt(Eigen::Vector3d(3, 7, 0), target), P, Q));
+  const auto nview = TriangulateLine(TestK(), obs, o);
+  EXPECT_FALSE(nview.ok());
+  EXPECT_TRUE(std::isfinite(nview.sigma_ratio));
+  EXPECT_TRUE(nview.L_w.allFinite());
 }
 
 TEST(LineTriangulation, IllConditionedWhenViewsDisagree) {
   // Three views of three different lines: no common line (sigma3 ~ sigma2).
-  std::vector<LineObservation> obs = ObserveFromArc(Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(1, 0, 0), 3);
+  std::vector<LineObservation> obs =
+      ObserveFromArc(Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(1, 0, 0), 3);
   obs[1] = Observe(obs[1].T_w_c, Eigen::Vector3d(0, -1, 0.5), Eigen::Vector3d(0, 1, -0.5));
   obs[2] = Observe(obs[2].T_w_c, Eigen::Vector3d(-1, 1, 1), Eigen::Vector3d(1, -1, 1));
   const auto r = TriangulateLine(TestK(), obs);
@@ -257,8 +270,9 @@ TEST(LineTriangulation, BehindCamera) {
   // Turn camera 2 around (pi about its y axis) and observe the segment "through the back": the
   // pixels of the mirrored points keep the back-projected plane but put the line behind it.
   const SE3d T = obs[2].T_w_c;
-  const SE3d T_flip(T.rotation() * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
-                    T.translation());
+  const SE3d T_flip(
+      T.rotation() * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
+      T.translation());
   const Eigen::Vector3d ps = T_flip.Inverse() * P, pe = T_flip.Inverse() * Q;
   ASSERT_LT(ps.z(), 0);
   obs[2].T_w_c = T_flip;
@@ -278,7 +292,8 @@ TEST(LineTriangulation, DegenerateEndpointAtTheVanishingPoint) {
   const Eigen::Vector3d P(0, 0, 0), Q(0, 0, 4);
   LineObservation o0 = Observe(T0, P, Q);
   o0.start = Eigen::Vector2d(TestK().cx, TestK().cy);
-  const LineObservation o1 = Observe(LookAt(Eigen::Vector3d(5, 1, 2), Eigen::Vector3d(0, 0, 2)), P, Q);
+  const LineObservation o1 =
+      Observe(LookAt(Eigen::Vector3d(5, 1, 2), Eigen::Vector3d(0, 0, 2)), P, Q);
   const auto r = TriangulateLineTwoView(TestK(), o0, o1);
   EXPECT_EQ(r.status, LineTriangulationStatus::kDegenerateEndpoint) << r.message;
 }

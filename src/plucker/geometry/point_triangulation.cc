@@ -55,13 +55,20 @@ double Rms(double cost, std::size_t n) { return std::sqrt(cost / static_cast<dou
 
 const char* ToString(PointTriangulationStatus status) {
   switch (status) {
-    case Status::kOk: return "ok";
-    case Status::kInvalidInput: return "invalid input";
-    case Status::kTooFewViews: return "too few views";
-    case Status::kSmallParallax: return "small parallax";
-    case Status::kDegenerate: return "degenerate";
-    case Status::kBehindCamera: return "behind camera";
-    case Status::kNotConverged: return "not converged";
+    case Status::kOk:
+      return "ok";
+    case Status::kInvalidInput:
+      return "invalid input";
+    case Status::kTooFewViews:
+      return "too few views";
+    case Status::kSmallParallax:
+      return "small parallax";
+    case Status::kDegenerate:
+      return "degenerate";
+    case Status::kBehindCamera:
+      return "behind camera";
+    case Status::kNotConverged:
+      return "not converged";
   }
   return "unknown";
 }
@@ -97,8 +104,7 @@ PointTriangulationResult TriangulatePoint(const PinholeIntrinsics& K,
     for (std::size_t j = i + 1; j < n; ++j) {
       // Angle between the two rays as lines, in [0, pi/2]: opposite rays (cameras facing each
       // other across the point) are as collinear as parallel ones.
-      const double angle =
-          std::atan2(f_w[i].cross(f_w[j]).norm(), std::abs(f_w[i].dot(f_w[j])));
+      const double angle = std::atan2(f_w[i].cross(f_w[j]).norm(), std::abs(f_w[i].dot(f_w[j])));
       res.max_parallax_rad = std::max(res.max_parallax_rad, angle);
     }
   }
@@ -166,8 +172,8 @@ PointTriangulationResult TriangulatePoint(const PinholeIntrinsics& K,
     double alpha = 1.0, new_cost = 0.0;
     bool accepted = false;
     for (int k = 0; k < 12 && !accepted; ++k, alpha *= 0.5) {
-      accepted = Cost(K, T_w_c, uv, p_w + alpha * dx, options.min_depth, &new_cost) &&
-                 new_cost <= cost;
+      accepted =
+          Cost(K, T_w_c, uv, p_w + alpha * dx, options.min_depth, &new_cost) && new_cost <= cost;
       if (accepted) break;
     }
     if (!accepted) {

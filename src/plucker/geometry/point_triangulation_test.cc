@@ -142,8 +142,9 @@ TEST(PointTriangulation, PointBehindACamera) {
   // Rotate the last camera by pi about its y axis and mirror the pixel: the ray through the pixel
   // now points away from p_w, and the other rays meet in front of it... behind the camera.
   const SE3d T = s.poses[2];
-  const SE3d T_flip(T.rotation() * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
-                    T.translation());
+  const SE3d T_flip(
+      T.rotation() * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
+      T.translation());
   // p_c of the flipped camera = (-x, y, -z): choose the pixel of the mirrored bearing (x, -y, z)
   // scaled by -1, i.e. the back-projected line through p_w seen from behind.
   const Eigen::Vector3d p_c = T_flip.Inverse() * p_w;  // z < 0

@@ -21,7 +21,7 @@ namespace lidar {
 struct DegeneracyInfo {
   bool degenerate = false;
   int num_degenerate_directions = 0;
-  Vector6d eigenvalues = Vector6d::Zero();  // of H_n, ascending
+  Vector6d eigenvalues = Vector6d::Zero();       // of H_n, ascending
   Matrix6d eigenvectors = Matrix6d::Identity();  // columns, same order
 };
 

@@ -9,7 +9,8 @@ namespace {
 TEST(DeskewTest, PointsMoveToTheScanStartFrame) {
   // The sensor moves 1 m along x and turns 10 deg about z during one 0.1 s sweep. A static world
   // point seen at time t is p_t = T_start_t^-1 p_start; deskewing must give p_start back.
-  const SE3d motion(ExpSO3<double>(Eigen::Vector3d(0, 0, 10 * M_PI / 180)), Eigen::Vector3d(1, 0, 0));
+  const SE3d motion(ExpSO3<double>(Eigen::Vector3d(0, 0, 10 * M_PI / 180)),
+                    Eigen::Vector3d(1, 0, 0));
   const Eigen::Vector3d p_start(10, 3, -1);
   std::vector<Eigen::Vector3d> pts;
   std::vector<double> times;

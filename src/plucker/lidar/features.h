@@ -29,24 +29,24 @@ namespace plucker {
 namespace lidar {
 
 struct FeatureOptions {
-  double min_range = 2.0;             // m; closer returns (vehicle, noise) are dropped
-  double max_range = 100.0;           // m
-  int curvature_half_window = 5;      // k: neighbours on each side along the ring
-  int sectors = 6;                    // equal-count sectors per ring
-  int max_sharp_per_sector = 2;       // strongest edge points per sector
-  int max_edges_per_sector = 20;      // edge points (sharp + less sharp) per sector
-  int max_flat_per_sector = 4;        // strongest plane points per sector
-  double edge_threshold = 0.1;        // m^2; curvature above -> edge candidate
-  double plane_threshold = 0.1;       // m^2; curvature below -> plane candidate
+  double min_range = 2.0;              // m; closer returns (vehicle, noise) are dropped
+  double max_range = 100.0;            // m
+  int curvature_half_window = 5;       // k: neighbours on each side along the ring
+  int sectors = 6;                     // equal-count sectors per ring
+  int max_sharp_per_sector = 2;        // strongest edge points per sector
+  int max_edges_per_sector = 20;       // edge points (sharp + less sharp) per sector
+  int max_flat_per_sector = 4;         // strongest plane points per sector
+  double edge_threshold = 0.1;         // m^2; curvature above -> edge candidate
+  double plane_threshold = 0.1;        // m^2; curvature below -> plane candidate
   double suppression_distance = 0.25;  // m; neighbours closer than this to a pick are suppressed
-  double occlusion_depth_jump = 0.1;  // relative depth jump |d_i - d_j| / min(d) => occlusion test
-  double occlusion_max_gap = 0.3;     // m; the jump only counts if the points are angularly adjacent
-                                      // (their distance after scaling to the same depth is below)
+  double occlusion_depth_jump = 0.1;   // relative depth jump |d_i - d_j| / min(d) => occlusion test
+  double occlusion_max_gap = 0.3;  // m; the jump only counts if the points are angularly adjacent
+                                   // (their distance after scaling to the same depth is below)
   double parallel_beam_ratio = 0.0002;  // LOAM: |p_i - p_{i+-1}|^2 > ratio * |p_i|^2 on both sides
-  double edge_voxel_size = 0.2;       // m; downsampling of `edges` (0 = off)
-  double plane_voxel_size = 0.4;      // m; downsampling of `planes` (0 = off)
-  double scan_period = 0.1;           // s; one revolution (for time from azimuth)
-  bool compute_times = false;         // fill the *_times vectors (needed by deskew)
+  double edge_voxel_size = 0.2;         // m; downsampling of `edges` (0 = off)
+  double plane_voxel_size = 0.4;        // m; downsampling of `planes` (0 = off)
+  double scan_period = 0.1;             // s; one revolution (for time from azimuth)
+  bool compute_times = false;           // fill the *_times vectors (needed by deskew)
 };
 
 struct FeatureStats {
@@ -60,19 +60,20 @@ struct FeatureStats {
 };
 
 struct ScanFeatures {
-  std::vector<Eigen::Vector3d> sharp;  // strongest edge points (subset of the edge picks)
-  std::vector<Eigen::Vector3d> edges;  // all edge points (sharp + less sharp), downsampled
-  std::vector<Eigen::Vector3d> flat;   // strongest plane points
+  std::vector<Eigen::Vector3d> sharp;   // strongest edge points (subset of the edge picks)
+  std::vector<Eigen::Vector3d> edges;   // all edge points (sharp + less sharp), downsampled
+  std::vector<Eigen::Vector3d> flat;    // strongest plane points
   std::vector<Eigen::Vector3d> planes;  // flat + less flat, downsampled
-  std::vector<double> edge_times;      // seconds from scan start, one per `edges` (if computed)
-  std::vector<double> plane_times;     // one per `planes` (if computed)
+  std::vector<double> edge_times;       // seconds from scan start, one per `edges` (if computed)
+  std::vector<double> plane_times;      // one per `planes` (if computed)
   FeatureStats stats;
 };
 
 // Extracts features. `scan.ring` must be filled (same size as points, 0..N-1; see
-// lidar/sensor_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be in firing order. Returns
-// false with `*error` set when the scan is unusable (no rings, mismatched channel sizes, fewer
-// than 2k+1 valid points on every ring). Non-finite points are skipped (counted as invalid).
+// lidar/sensor_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be
+// in firing order. Returns false with `*error` set when the scan is unusable (no rings, mismatched
+// channel sizes, fewer than 2k+1 valid points on every ring). Non-finite points are skipped
+// (counted as invalid).
 bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
                      std::string* error);
 

@@ -65,7 +65,8 @@ TEST(FeaturesTest, CornersGiveEdgesAndWallsGivePlanes) {
     EXPECT_FALSE(NearCorner(p, 0.5)) << p.transpose();
   }
   EXPECT_GT(f.planes.size(), f.flat.size());
-  for (const auto& p : f.planes) EXPECT_NEAR(std::max(std::abs(p.x()), std::abs(p.y())), 10.0, 1e-9);
+  for (const auto& p : f.planes)
+    EXPECT_NEAR(std::max(std::abs(p.x()), std::abs(p.y())), 10.0, 1e-9);
 }
 
 TEST(FeaturesTest, OccludedSideOfADepthJumpIsRejected) {
@@ -99,18 +100,21 @@ TEST(FeaturesTest, OccludedSideOfADepthJumpIsRejected) {
 }
 
 TEST(FeaturesTest, SurfaceParallelToTheBeamIsRejected) {
-  // A wall nearly parallel to the beams: the line y = 1 seen at grazing angles far along x.
-  LidarScan scan;
-  for (int i = 0; i < 400; ++i) {
-    const double x = 2.0 + i * (i < 200 ? 0.05 : 2.0);  // the far part is sampled very sparsely
-    scan.points.emplace_back(x, 1.0, 0.0);
-    scan.ring.push_back(0);
-  }
+  // A wall at y = 2 m seen at grazing angles (azimuth 2..12 deg): consecutive returns are far
+  // apart compared with their range (LOAM's criterion); elsewhere a circle at 30 m.
+  auto range_of = [](double az) {
+    const double s = std::sin(az);
+    if (az > 2.0 * M_PI / 180 && az < 12.0 * M_PI / 180) return 2.0 / s;
+    return 30.0;
+  };
+  const LidarScan scan = Ring(0.2, range_of);
   FeatureOptions options;
   ScanFeatures f;
   std::string error;
   ASSERT_TRUE(ExtractFeatures(scan, options, &f, &error)) << error;
-  EXPECT_GT(f.stats.parallel_rejected, 100);
+  EXPECT_GT(f.stats.parallel_rejected, 20);
+  for (const auto& p : f.flat)
+    EXPECT_NEAR(p.norm(), 30.0, 1e-9) << "flat point on the grazing wall";
 }
 
 TEST(FeaturesTest, RangeGatingNaNsAndBadInput) {

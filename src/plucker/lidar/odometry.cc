@@ -153,7 +153,8 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   // 1. Rings.
   double t0 = ThreadCpuMs();
   const bool has_ring = scan.ring.size() == scan.size();
-  if (o.ring_source == RingSource::kScanOrder || (o.ring_source == RingSource::kAuto && !has_ring)) {
+  if (o.ring_source == RingSource::kScanOrder ||
+      (o.ring_source == RingSource::kAuto && !has_ring)) {
     AssignRingsFromScanOrder(&scan);
   } else if (o.ring_source == RingSource::kElevation ||
              (o.ring_source == RingSource::kAutoElevation && !has_ring)) {
@@ -165,9 +166,9 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
 
   // 2. Features (+ deskew).
   t0 = ThreadCpuMs();
-  const bool deskew = o.deskew == DeskewMode::kOn ||
-                      (o.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() &&
-                       !scan.empty());
+  const bool deskew =
+      o.deskew == DeskewMode::kOn ||
+      (o.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   ScanFeatures features;
@@ -203,7 +204,8 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
     double params[7];
     const int k = std::min(o.num_neighbours, 16);
     const double max_d = std::min(o.max_correspondence_distance, plane_map_.options().voxel_size);
-    for (int round = 0; round < o.association_rounds; ++round) {
+    const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
+    for (int round = 0; round < max_rounds; ++round) {
       // 3. Correspondences.
       t0 = ThreadCpuMs();
       const Eigen::Matrix3d R = T.RotationMatrix();
@@ -255,9 +257,9 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
         problem.AddResidualBlock(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma),
                                  loss, params);
       for (const EdgeMatch& m : impl_->edges)
-        problem.AddResidualBlock(
-            PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w, m.a_w - 0.1 * m.u_w, o.edge_sigma),
-            loss, params);
+        problem.AddResidualBlock(PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w,
+                                                           m.a_w - 0.1 * m.u_w, o.edge_sigma),
+                                 loss, params);
       ceres::Solver::Options solver_options;
       solver_options.linear_solver_type = ceres::DENSE_QR;
       solver_options.max_num_iterations = o.max_iterations;
@@ -278,14 +280,20 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
 
       // Degeneracy at the solution; keep the prediction along poorly constrained directions.
       NormalEquations normal;
-      for (const PlaneMatch& m : impl_->planes) normal.AddPlane(T_solved, m.p_s, m.m_w, o.plane_sigma);
+      for (const PlaneMatch& m : impl_->planes)
+        normal.AddPlane(T_solved, m.p_s, m.m_w, o.plane_sigma);
       for (const EdgeMatch& m : impl_->edges) normal.AddEdge(T_solved, m.p_s, m.u_w, o.edge_sigma);
       result.degeneracy = normal.Analyse(o.degeneracy_threshold);
       if (o.handle_degeneracy)
         T_solved = RemapSolution(T_pred, T_solved, result.degeneracy, o.degeneracy_threshold);
+      const Vector6d step = T_solved.Minus(T);
       T = T_solved;
       registered = true;
       result.timing.solve += (ThreadCpuMs() - t0);
+      result.association_rounds = round + 1;
+      const bool converged = step.tail<3>().norm() < o.convergence_translation &&
+                             step.head<3>().norm() < o.convergence_rotation_deg * M_PI / 180.0;
+      if (round + 1 >= o.association_rounds && converged) break;
     }
   }
 

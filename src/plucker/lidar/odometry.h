@@ -9,11 +9,13 @@
 //   2. features; when deskewing, the feature points are moved to the scan-start frame with the
 //      constant-velocity motion;
 //   3. prediction T_pred = T_{k-1} (T_{k-2}^-1 T_{k-1});
-//   4. `association_rounds` times: transform the features with the current estimate, find
-//      correspondences in the local maps (5 nearest neighbours; edge if the largest eigenvalue of
-//      their covariance exceeds edge_eigen_ratio times the middle one, plane if every neighbour
-//      lies within plane_max_residual of the fitted plane), solve with Ceres (a few iterations,
-//      DENSE_QR on the 6-dof pose), then remap the solution along degenerate directions;
+//   4. `association_rounds` times (up to max_association_rounds while the pose still moves by
+//      more than the convergence thresholds in a round): transform the features with the current
+//      estimate, find correspondences in the local maps (5 nearest neighbours; edge if the largest
+//      eigenvalue of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
+//      neighbour lies within plane_max_residual of the fitted plane), solve with Ceres (a few
+//      iterations, DENSE_QR on the 6-dof pose), then remap the solution along degenerate
+//      directions;
 //   5. the downsampled features, in the world frame, enter the maps; voxels farther than
 //      map max_distance from the sensor are dropped.
 #pragma once
@@ -32,9 +34,9 @@ namespace plucker {
 namespace lidar {
 
 enum class RingSource {
-  kAuto,        // the scan's ring field; if absent, from the firing order (KITTI .bin)
-  kScanOrder,   // always from the firing order
-  kElevation,   // from the elevation table of `sensor` (auto-detected on the first scan if "auto")
+  kAuto,       // the scan's ring field; if absent, from the firing order (KITTI .bin)
+  kScanOrder,  // always from the firing order
+  kElevation,  // from the elevation table of `sensor` (auto-detected on the first scan if "auto")
   kAutoElevation,  // the scan's ring field; if absent, from the elevation table (PCD without ring)
 };
 
@@ -47,27 +49,30 @@ struct LidarOdometryOptions {
   std::string sensor = "auto";  // hdl64 | vlp32 | vlp16 | auto (for kElevation)
   DeskewMode deskew = DeskewMode::kAuto;
 
-  VoxelMapOptions edge_map{1.0, 10, 0.2, 100.0};   // voxel, cap, spacing, radius
+  VoxelMapOptions edge_map{1.0, 10, 0.2, 100.0};  // voxel, cap, spacing, radius
   VoxelMapOptions plane_map{1.0, 20, 0.3, 100.0};
-  int num_neighbours = 5;                   // KNN for each correspondence (<= 16)
+  int num_neighbours = 5;                    // KNN for each correspondence (<= 16)
   double max_correspondence_distance = 1.0;  // m; farthest neighbour allowed (<= voxel size)
-  double edge_eigen_ratio = 3.0;            // lambda_max > ratio * lambda_mid for a line
-  double plane_max_residual = 0.05;         // m; every neighbour within this of the plane
-  double edge_sigma = 0.5;                  // m; residual scale of edges (view-dependent)
-  double plane_sigma = 0.05;                // m; residual scale of planes
+  double edge_eigen_ratio = 3.0;             // lambda_max > ratio * lambda_mid for a line
+  double plane_max_residual = 0.05;          // m; every neighbour within this of the plane
+  double edge_sigma = 0.5;                   // m; residual scale of edges (view-dependent)
+  double plane_sigma = 0.05;                 // m; residual scale of planes
   RobustLoss loss = RobustLoss::kHuber;
-  double loss_scale = 2.0;                  // in sigma units (Huber/Cauchy parameter)
+  double loss_scale = 2.0;  // in sigma units (Huber/Cauchy parameter)
   bool use_edges = true;
-  int association_rounds = 2;               // re-association rounds per scan
-  int max_iterations = 4;                   // Ceres iterations per round
-  int max_edge_points = 1000;               // cap on edge points used per scan (stride sampling)
-  int max_plane_points = 3000;              // cap on plane points used per scan
-  int min_correspondences = 30;             // fewer -> the scan keeps the predicted pose
-  double degeneracy_threshold = 0.02;       // on eigenvalues of H/N (see degeneracy.h)
-  bool handle_degeneracy = true;            // remap the solution along degenerate directions
-  bool constant_velocity = true;            // else the prediction is the previous pose
-  int map_cleanup_every = 10;               // frames between RemoveFar calls
-  int num_threads = 1;                      // Ceres threads
+  int association_rounds = 2;              // re-association rounds per scan (minimum)
+  int max_association_rounds = 8;          // more rounds while the pose still moves by more
+  double convergence_translation = 0.005;  // m   than these in a round (large initial errors,
+  double convergence_rotation_deg = 0.02;  // deg e.g. the first scan pair from zero velocity)
+  int max_iterations = 4;                  // Ceres iterations per round
+  int max_edge_points = 1000;              // cap on edge points used per scan (stride sampling)
+  int max_plane_points = 3000;             // cap on plane points used per scan
+  int min_correspondences = 30;            // fewer -> the scan keeps the predicted pose
+  double degeneracy_threshold = 0.3;       // on eigenvalues of H/N (see degeneracy.h)
+  bool handle_degeneracy = true;           // remap the solution along degenerate directions
+  bool constant_velocity = true;           // else the prediction is the previous pose
+  int map_cleanup_every = 10;              // frames between RemoveFar calls
+  int num_threads = 1;                     // Ceres threads
 };
 
 // Milliseconds. The stages are measured in CPU time of the calling thread (meaningful on a
@@ -81,13 +86,14 @@ struct FrameTimings {
 double ThreadCpuMs();
 
 struct FrameResult {
-  bool ok = false;           // false: the pose is the prediction (see `error`)
-  std::string error;         // why the frame was not registered
-  SE3d T_w_s;                // scan pose (frame 0 = identity)
+  bool ok = false;    // false: the pose is the prediction (see `error`)
+  std::string error;  // why the frame was not registered
+  SE3d T_w_s;         // scan pose (frame 0 = identity)
   FeatureStats features;
-  int edge_points = 0, plane_points = 0;                     // features used
-  int edge_correspondences = 0, plane_correspondences = 0;   // of the last round
-  int solver_iterations = 0;
+  int edge_points = 0, plane_points = 0;                    // features used
+  int edge_correspondences = 0, plane_correspondences = 0;  // of the last round
+  int association_rounds = 0;                               // rounds run
+  int solver_iterations = 0;                                // Ceres iterations over all rounds
   double final_cost = 0.0;
   DegeneracyInfo degeneracy;
   bool deskewed = false;

@@ -91,10 +91,10 @@ inline LidarScan MakeScan(const Scene& scene, const SE3d& T_w_s, const ScanPatte
   std::normal_distribution<double> noise(0.0, pattern.noise > 0 ? pattern.noise : 1.0);
   const Eigen::Matrix3d R = T_w_s.RotationMatrix();
   for (int r = 0; r < pattern.rings; ++r) {
-    const double el = (pattern.min_elevation_deg + (pattern.max_elevation_deg -
-                                                    pattern.min_elevation_deg) *
-                                                       r / std::max(1, pattern.rings - 1)) *
-                      M_PI / 180.0;
+    const double el =
+        (pattern.min_elevation_deg + (pattern.max_elevation_deg - pattern.min_elevation_deg) * r /
+                                         std::max(1, pattern.rings - 1)) *
+        M_PI / 180.0;
     for (int a = 0; a < pattern.azimuth_steps; ++a) {
       const double az = M_PI - 2.0 * M_PI * a / pattern.azimuth_steps;  // clockwise from -x
       const Eigen::Vector3d d_s(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),

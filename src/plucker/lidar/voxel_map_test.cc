@@ -55,13 +55,14 @@ TEST(VoxelMapTest, MemoryStaysFlatAsThePoseMovesFar) {
   for (int step = 0; step < 2000; ++step) {
     const Eigen::Vector3d origin(5.0 * step, 0.0, 0.0);  // 10 km
     std::vector<Eigen::Vector3d> pts;
-    for (int i = 0; i < 500; ++i) pts.push_back(origin + Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)));
+    for (int i = 0; i < 500; ++i)
+      pts.push_back(origin + Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)));
     map.AddPoints(pts);
     map.RemoveFar(origin);
     if (step == 100) peak_after_warmup = map.NumPoints();
     peak = std::max(peak, map.NumPoints());
-    for (const auto& p : map.Points()) {
-      if (step % 500 == 0) ASSERT_LT((p - origin).norm(), options.max_distance + 2.0);
+    if (step % 500 == 0) {
+      for (const auto& p : map.Points()) ASSERT_LT((p - origin).norm(), options.max_distance + 2.0);
     }
   }
   EXPECT_GT(peak_after_warmup, 0u);

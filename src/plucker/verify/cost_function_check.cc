@@ -98,7 +98,8 @@ bool AddCostFunctionSample(const ceres::CostFunction& analytic, const ceres::Cos
       [&](const Eigen::VectorXd& delta) {
         std::vector<Eigen::VectorXd> xp;
         Eigen::VectorXd r;
-        if (!PlusAll(manifolds, x, delta, &xp) || !EvaluateCostFunction(analytic, xp, &r, nullptr)) {
+        if (!PlusAll(manifolds, x, delta, &xp) ||
+            !EvaluateCostFunction(analytic, xp, &r, nullptr)) {
           plus_ok = false;
           return Eigen::VectorXd(Eigen::VectorXd::Constant(r_an.size(), 0.0));
         }
@@ -119,8 +120,11 @@ bool AddCostFunctionSample(const ceres::CostFunction& analytic, const ceres::Cos
       std::ostringstream os;
       os << stats->name << " sample " << stats->samples << (what.empty() ? "" : " (" + what + ")")
          << ": err vs autodiff " << ea << " (residual " << residual_err << "), vs numeric " << en
-         << "\nanalytic ambient:\n" << A << "\nautodiff ambient:\n" << B
-         << "\nanalytic tangent:\n" << T << "\nnumeric tangent:\n" << J_num;
+         << "\nanalytic ambient:\n"
+         << A << "\nautodiff ambient:\n"
+         << B << "\nanalytic tangent:\n"
+         << T << "\nnumeric tangent:\n"
+         << J_num;
       stats->first_failure = os.str();
     }
     ++stats->failures;

@@ -1,7 +1,7 @@
 #include "plucker/verify/factor_bench.h"
 
-#include <algorithm>
 #include <time.h>
+#include <algorithm>
 
 #include <limits>
 
@@ -69,8 +69,8 @@ FactorBenchCase LidarCase(const std::string& name, double flops, Rng& rng, bool 
     const Eigen::Vector3d p_s = RandomVector(rng, 40.0);
     const Eigen::Vector3d p_w = T_w_s * p_s;
     const Eigen::Vector3d a = p_w + RandomVector(rng, 1.0);
-    const Eigen::Vector3d b = plane ? Eigen::Vector3d(RandomUnitVector(rng))
-                                    : Eigen::Vector3d(a + RandomUnitVector(rng));
+    const Eigen::Vector3d b =
+        plane ? Eigen::Vector3d(RandomUnitVector(rng)) : Eigen::Vector3d(a + RandomUnitVector(rng));
     const double sigma = Uniform(rng, 0.05, 0.2);
     // Plane: (p_s, m = b, q = a); edges: (p_s, a, b).
     c.analytic.emplace_back(plane ? create(p_s, b, a, sigma) : create(p_s, a, b, sigma));
@@ -118,10 +118,10 @@ FactorBenchCase LineCase(Rng& rng, bool vi) {
     const SE3d T_w_c = vi ? T_w_b * T_b_c : T_w_b;
     // A segment seen by the camera: two points in view, observed with a few pixels of noise.
     const Eigen::Vector3d p1_c = PointInView(rng), p2_c = PointInView(rng);
-    const Eigen::Vector2d s = K.ToPixel<double>(p1_c.head<2>() / p1_c.z()) +
-                              RandomVector(rng, 2.0).head<2>();
-    const Eigen::Vector2d e = K.ToPixel<double>(p2_c.head<2>() / p2_c.z()) +
-                              RandomVector(rng, 2.0).head<2>();
+    const Eigen::Vector2d s =
+        K.ToPixel<double>(p1_c.head<2>() / p1_c.z()) + RandomVector(rng, 2.0).head<2>();
+    const Eigen::Vector2d e =
+        K.ToPixel<double>(p2_c.head<2>() / p2_c.z()) + RandomVector(rng, 2.0).head<2>();
     const std::optional<OrthonormalLine> line =
         OrthonormalFromPlucker(LineFromPoints<double>(T_w_c * p1_c, T_w_c * p2_c));
     if (!line || (e - s).norm() < 10.0) continue;

@@ -20,7 +20,7 @@ namespace verify {
 
 struct FactorBenchRow {
   std::string name;
-  double analytic_ns = 0.0;     // thread CPU ns per evaluation (best of several rounds)
+  double analytic_ns = 0.0;  // thread CPU ns per evaluation (best of several rounds)
   double autodiff_ns = 0.0;
   double ratio = 0.0;           // autodiff_ns / analytic_ns (the speed-up of the analytic version)
   double flops_estimate = 0.0;  // hand count of floating-point operations of the analytic version
@@ -53,8 +53,8 @@ class FactorBenchBuffers {
   std::vector<double*> pointers_;
 };
 
-// The benchmarked factors: PointToPlane, PointToEdge, PointToEdge2, PointToEdgeScalar, PointReprojection,
-// PointReprojectionVI, LineReprojection, LineReprojectionVI (in that order).
+// The benchmarked factors: PointToPlane, PointToEdge, PointToEdge2, PointToEdgeScalar,
+// PointReprojection, PointReprojectionVI, LineReprojection, LineReprojectionVI (in that order).
 std::vector<FactorBenchCase> MakeFactorBenchCases(std::uint64_t seed);
 
 // Evaluates input `index` of the case once (analytic or autodiff). Returns false if Evaluate did.

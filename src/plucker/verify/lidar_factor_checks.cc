@@ -3,8 +3,10 @@
 //
 // Curated first samples: 0 the point exactly on the plane / edge line (residual zero), 1 a
 // rotation of exactly pi, 2 a rotation pi - 1e-7, 3 edge points 1e-6 m apart (nearly coincident),
-// 4 a scan point 100 m away, 5 the identity pose, 6 a small sigma (0.01 m). The scalar edge factor
-// skips sample 0 (its kink: the distance is zero up to rounding, the gradient direction is noise).
+// 4 a scan point 100 m away, 5 the identity pose, 6 a small sigma (0.01 m). For the scalar edge
+// factor sample 0 puts the point 1 cm from the line instead: on the line it has its kink (the
+// distance is zero up to rounding and the gradient direction is noise; the zero-distance
+// behaviour is tested in factors_lidar_factors_test).
 #include <memory>
 #include <sstream>
 
@@ -29,10 +31,17 @@ struct LidarSample {
 LidarSample MakeSample(Rng& rng, int i) {
   LidarSample s;
   switch (i) {
-    case 1: s.T_w_s = SE3d(RotationNearPi(rng, 0.0), RandomVector(rng, 5.0)); break;
-    case 2: s.T_w_s = SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng, 5.0)); break;
-    case 5: s.T_w_s = SE3d(); break;
-    default: s.T_w_s = RandomPose(rng, 5.0);
+    case 1:
+      s.T_w_s = SE3d(RotationNearPi(rng, 0.0), RandomVector(rng, 5.0));
+      break;
+    case 2:
+      s.T_w_s = SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng, 5.0));
+      break;
+    case 5:
+      s.T_w_s = SE3d();
+      break;
+    default:
+      s.T_w_s = RandomPose(rng, 5.0);
   }
   s.sigma = i == 6 ? 0.01 : Uniform(rng, 0.05, 2.0);
   s.p_s = i == 4 ? RandomUnitVector(rng) * 100.0 : RandomVector(rng, 10.0);
@@ -53,7 +62,7 @@ LidarSample MakeSample(Rng& rng, int i) {
 }
 
 std::string Describe(int i) {
-  static const char* kNames[] = {"on feature", "rotation pi",  "rotation pi - 1e-7",
+  static const char* kNames[] = {"on feature",      "rotation pi",    "rotation pi - 1e-7",
                                  "a, b 1e-6 apart", "point at 100 m", "identity pose",
                                  "sigma 0.01"};
   return i < 7 ? kNames[i] : "random";
@@ -61,7 +70,7 @@ std::string Describe(int i) {
 
 template <typename Make>
 JacobianCheckStats CheckLidarFactor(const std::string& name, std::uint64_t seed_offset,
-                                    bool skip_on_feature, const JacobianCheckOptions& o,
+                                    bool near_instead_of_on_feature, const JacobianCheckOptions& o,
                                     const Make& make) {
   JacobianCheckStats stats;
   stats.name = name;
@@ -69,16 +78,20 @@ JacobianCheckStats CheckLidarFactor(const std::string& name, std::uint64_t seed_
   PoseManifold manifold;
   const std::vector<const ceres::Manifold*> manifolds = {&manifold};
   for (int i = 0; i < o.samples; ++i) {
-    const LidarSample s = MakeSample(rng, i);
-    if (skip_on_feature && i == 0) {
-      ++stats.skipped;
-      continue;
+    LidarSample s = MakeSample(rng, i);
+    std::string what = Describe(i);
+    if (near_instead_of_on_feature && i == 0) {
+      // Shift the line 1 cm sideways: close to the kink, yet smooth at the difference step.
+      const Eigen::Vector3d side = (s.b_w - s.a_w).normalized().unitOrthogonal() * 0.01;
+      s.a_w += side;
+      s.b_w += side;
+      what = "1 cm from the line";
     }
     std::unique_ptr<ceres::CostFunction> analytic, autodiff;
     make(s, &analytic, &autodiff);
     Eigen::VectorXd x(7);
     s.T_w_s.ToParameters(x.data());
-    if (!AddCostFunctionSample(*analytic, *autodiff, manifolds, {x}, &stats, Describe(i))) {
+    if (!AddCostFunctionSample(*analytic, *autodiff, manifolds, {x}, &stats, what)) {
       ++stats.skipped;
     }
   }
@@ -88,35 +101,35 @@ JacobianCheckStats CheckLidarFactor(const std::string& name, std::uint64_t seed_
 using CostPtr = std::unique_ptr<ceres::CostFunction>;
 
 JacobianCheckStats CheckPlane(const JacobianCheckOptions& o) {
-  return CheckLidarFactor("lidar.PointToPlaneFactor", 101, false, o,
-                          [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-                            an->reset(PointToPlaneFactor::Create(s.p_s, s.m_w, s.q_w, s.sigma));
-                            ad->reset(
-                                PointToPlaneFactor::CreateAutoDiff(s.p_s, s.m_w, s.q_w, s.sigma));
-                          });
+  return CheckLidarFactor(
+      "factor.lidar.PointToPlane", 101, false, o,
+      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
+        an->reset(PointToPlaneFactor::Create(s.p_s, s.m_w, s.q_w, s.sigma));
+        ad->reset(PointToPlaneFactor::CreateAutoDiff(s.p_s, s.m_w, s.q_w, s.sigma));
+      });
 }
 
 JacobianCheckStats CheckEdge(const JacobianCheckOptions& o) {
-  return CheckLidarFactor("lidar.PointToEdgeFactor", 102, false, o,
-                          [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-                            an->reset(PointToEdgeFactor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
-                            ad->reset(
-                                PointToEdgeFactor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
-                          });
+  return CheckLidarFactor(
+      "factor.lidar.PointToEdge", 102, false, o,
+      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
+        an->reset(PointToEdgeFactor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
+        ad->reset(PointToEdgeFactor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
+      });
 }
 
 JacobianCheckStats CheckEdge2(const JacobianCheckOptions& o) {
-  return CheckLidarFactor("lidar.PointToEdge2Factor", 103, false, o,
-                          [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-                            an->reset(PointToEdge2Factor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
-                            ad->reset(
-                                PointToEdge2Factor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
-                          });
+  return CheckLidarFactor(
+      "factor.lidar.PointToEdge2", 103, false, o,
+      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
+        an->reset(PointToEdge2Factor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
+        ad->reset(PointToEdge2Factor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
+      });
 }
 
 JacobianCheckStats CheckEdgeScalar(const JacobianCheckOptions& o) {
   return CheckLidarFactor(
-      "lidar.PointToEdgeScalarFactor", 104, true, o,
+      "factor.lidar.PointToEdgeScalar", 104, true, o,
       [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
         an->reset(PointToEdgeScalarFactor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
         ad->reset(PointToEdgeScalarFactor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
@@ -126,10 +139,10 @@ JacobianCheckStats CheckEdgeScalar(const JacobianCheckOptions& o) {
 }  // namespace
 
 std::vector<NamedJacobianCheck> LidarFactorJacobianChecks() {
-  return {{"lidar.PointToPlaneFactor", CheckPlane},
-          {"lidar.PointToEdgeFactor", CheckEdge},
-          {"lidar.PointToEdge2Factor", CheckEdge2},
-          {"lidar.PointToEdgeScalarFactor", CheckEdgeScalar}};
+  return {{"factor.lidar.PointToPlane", CheckPlane},
+          {"factor.lidar.PointToEdge", CheckEdge},
+          {"factor.lidar.PointToEdge2", CheckEdge2},
+          {"factor.lidar.PointToEdgeScalar", CheckEdgeScalar}};
 }
 
 }  // namespace verify

@@ -28,10 +28,14 @@ struct PointSample {
 
 SE3d SampleRotationCase(Rng& rng, int i, double translation_scale) {
   switch (i) {
-    case 0: return SE3d();
-    case 1: return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng, translation_scale));
-    case 2: return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng, translation_scale));
-    default: return RandomPose(rng, translation_scale);
+    case 0:
+      return SE3d();
+    case 1:
+      return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng, translation_scale));
+    case 2:
+      return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng, translation_scale));
+    default:
+      return RandomPose(rng, translation_scale);
   }
 }
 
@@ -51,22 +55,23 @@ PointSample MakeSample(Rng& rng, int i) {
   if (i == 5) p_c.head<2>().setZero();
   if (i == 6) p_c.x() = 2.0 * depth;
   s.p_w = (s.T_w_b * s.T_b_c) * p_c;
-  s.uv = s.K.ToPixel<double>(p_c.head<2>() / p_c.z()) + Eigen::Vector2d(RandomVector(rng, 3.0).head<2>());
+  s.uv = s.K.ToPixel<double>(p_c.head<2>() / p_c.z()) +
+         Eigen::Vector2d(RandomVector(rng, 3.0).head<2>());
   const double inv_sigma = 1.0 / Uniform(rng, 0.5, 2.0);
   s.sqrt_information << inv_sigma, Uniform(rng, -0.2, 0.2), 0.0, inv_sigma * Uniform(rng, 0.8, 1.2);
   return s;
 }
 
 std::string Describe(int i) {
-  static const char* kNames[] = {"identity poses",    "rotation pi",  "rotation pi - 1e-7",
-                                 "point at 100 m",    "depth 5 cm",   "on the optical axis",
-                                 "off-axis x/z = 2",  "identity extrinsic"};
+  static const char* kNames[] = {"identity poses",   "rotation pi",       "rotation pi - 1e-7",
+                                 "point at 100 m",   "depth 5 cm",        "on the optical axis",
+                                 "off-axis x/z = 2", "identity extrinsic"};
   return i < 8 ? kNames[i] : "random";
 }
 
 JacobianCheckStats CheckPointReprojection(const JacobianCheckOptions& o) {
   JacobianCheckStats stats;
-  stats.name = "factors.PointReprojectionFactor";
+  stats.name = "factor.point.Reprojection";
   Rng rng(o.seed + 201);
   PoseManifold pose;
   for (int i = 0; i < o.samples; ++i) {
@@ -87,7 +92,7 @@ JacobianCheckStats CheckPointReprojection(const JacobianCheckOptions& o) {
 
 JacobianCheckStats CheckPointReprojectionVI(const JacobianCheckOptions& o) {
   JacobianCheckStats stats;
-  stats.name = "factors.PointReprojectionFactorVI";
+  stats.name = "factor.point.ReprojectionVI";
   Rng rng(o.seed + 202);
   PoseManifold pose;
   for (int i = 0; i < o.samples; ++i) {
@@ -110,8 +115,8 @@ JacobianCheckStats CheckPointReprojectionVI(const JacobianCheckOptions& o) {
 }  // namespace
 
 std::vector<NamedJacobianCheck> PointFactorJacobianChecks() {
-  return {{"factors.PointReprojectionFactor", CheckPointReprojection},
-          {"factors.PointReprojectionFactorVI", CheckPointReprojectionVI}};
+  return {{"factor.point.Reprojection", CheckPointReprojection},
+          {"factor.point.ReprojectionVI", CheckPointReprojectionVI}};
 }
 
 }  // namespace verify

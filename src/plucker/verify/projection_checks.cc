@@ -127,8 +127,7 @@ JacobianCheckStats CheckProjectCameraPoint(const JacobianCheckOptions& o) {
       ProjectCameraPointT<T>(K, Eigen::Matrix<T, 3, 1>(c.p_c.cast<T>() + d), &uv, c.min_depth);
       return uv;
     };
-    const Eigen::Matrix<double, 2, 3> Jad =
-        AutoDiffJacobian<3, 2>(twin, Eigen::Vector3d::Zero());
+    const Eigen::Matrix<double, 2, 3> Jad = AutoDiffJacobian<3, 2>(twin, Eigen::Vector3d::Zero());
     const Eigen::MatrixXd Jnum = NumericJacobian(
         [&](const Eigen::VectorXd& d) {
           const auto uv = ProjectCameraPoint(K, c.p_c + d, nullptr, c.min_depth);
