@@ -24,6 +24,7 @@ int RunBenchBa(const BenchBaArgs& args) {
   ba::SyntheticProblemOptions options;
   options.simulation.scene.kind = sim::SceneKind::kFacades;
   options.simulation.scene.length = 300.0;
+  options.simulation.scene.num_points = 1500;
   options.simulation.num_frames = args.frames;
   options.simulation.frame_rate_hz = 4.0;
   options.simulation.trajectory.speed = 10.0;

@@ -42,22 +42,16 @@ struct EvalArgs {
 };
 
 void AddCommonOptions(CLI::App* cmd, EvalArgs* a) {
-  cmd->add_option("--gt", a->gt, "Ground-truth trajectory (KITTI poses or TUM)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--est", a->est, "Estimated trajectory (KITTI poses or TUM)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--gt", a->gt, "Ground-truth trajectory (KITTI poses or TUM)")->required();
+  cmd->add_option("--est", a->est, "Estimated trajectory (KITTI poses or TUM)")->required();
   cmd->add_option("--format", a->format,
                   "File format of both files: 12 numbers a line = kitti, "
                   "8 = tum (t tx ty tz qx qy qz qw)")
       ->check(CLI::IsMember({"auto", "kitti", "tum"}))
       ->capture_default_str();
   cmd->add_option("--gt-times", a->gt_times,
-                  "times.txt for a KITTI ground truth (enables association by time)")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--est-times", a->est_times, "times.txt for a KITTI estimate")
-      ->check(CLI::ExistingFile);
+                  "times.txt for a KITTI ground truth (enables association by time)");
+  cmd->add_option("--est-times", a->est_times, "times.txt for a KITTI estimate");
   cmd->add_option("--max-dt", a->max_dt,
                   "Largest timestamp difference [s] when pairing TUM poses by time")
       ->check(CLI::NonNegativeNumber)
@@ -78,7 +72,10 @@ struct Input {
 bool SameFile(const std::string& a, const std::string& b) {
   std::error_code ec;
   if (std::filesystem::equivalent(a, b, ec) && !ec) return true;
-  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+  std::error_code ec_a, ec_b;
+  const std::filesystem::path canonical_a = std::filesystem::weakly_canonical(a, ec_a);
+  const std::filesystem::path canonical_b = std::filesystem::weakly_canonical(b, ec_b);
+  return !ec_a && !ec_b && canonical_a == canonical_b;
 }
 
 void CheckPlotPath(const EvalArgs& a) {

@@ -238,7 +238,14 @@ int RunLidar(const LidarArgs& a) {
   lidar::VoxelMapOptions map_options{map_voxel, 1, 0.0, 1e12};
   lidar::VoxelMap map(map_options);
 
-  nlohmann::json frames = nlohmann::json::array();
+  // The per-frame records are streamed to the JSON file as they come (memory stays flat on
+  // long sequences); the skipped list and the summary follow at the end.
+  std::ofstream json_out;
+  if (!a.json.empty()) {
+    json_out.open(a.json);
+    if (!json_out) throw std::runtime_error(a.json + ": cannot open for writing");
+    json_out << "{\n\"frames\": [";
+  }
   nlohmann::json skipped = nlohmann::json::array();
   std::vector<double> total_ms, cpu_ms, times;
   std::size_t degenerate_frames = 0;
@@ -310,7 +317,7 @@ int RunLidar(const LidarArgs& a) {
                           {"deskewed", r.deskewed},
                           {"map_points", r.map_points}};
       if (!r.ok) f["error"] = r.error;
-      frames.push_back(std::move(f));
+      json_out << (i == 0 ? "\n" : ",\n") << f.dump();
     }
     const auto now = Clock::now();
     if (!a.quiet &&
@@ -362,11 +369,10 @@ int RunLidar(const LidarArgs& a) {
         {"wall_s", wall},
         {"threads", options.num_threads},
         {"output_frame", to_cam0 ? "cam0" : "lidar"}};
-    nlohmann::json doc = {{"summary", summary}, {"skipped", skipped}, {"frames", frames}};
-    std::ofstream out(a.json);
-    if (!out) throw std::runtime_error(a.json + ": cannot open for writing");
-    out << doc.dump(1) << "\n";
-    if (!out) throw std::runtime_error(a.json + ": write failed");
+    json_out << "\n],\n\"skipped\": " << skipped.dump() << ",\n\"summary\": " << summary.dump(1)
+             << "\n}\n";
+    json_out.close();
+    if (!json_out) throw std::runtime_error(a.json + ": write failed");
   }
   if (!a.quiet) {
     std::cerr << "plucker lidar: " << n << " frames (" << skipped.size() << " skipped, "

@@ -49,7 +49,8 @@ void PrepareOutput(const fs::path& out) {
     if (!empty && !fs::exists(out / kMarker, ec)) {
       throw io::IoError(out.string(),
                         "folder is not empty and is not a previous 'plucker sim lidar' output "
-                        "(no " + std::string(kMarker) + "); refusing to write into it");
+                        "(no " +
+                            std::string(kMarker) + "); refusing to write into it");
     }
     for (const char* sub : {"velodyne", "pcd"}) {
       if (!fs::is_directory(out / sub, ec)) continue;
@@ -151,8 +152,7 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Random seed (scene layout and noise)")
       ->capture_default_str();
-  cmd->add_option("--noise", args->noise, "Range noise sigma (m, Gaussian)")
-      ->capture_default_str();
+  cmd->add_option("--noise", args->noise, "Range noise sigma (m, Gaussian)")->capture_default_str();
   cmd->add_flag("--distortion", args->distortion,
                 "Move the sensor during each sweep and also write pcd/NNNNNN.pcd with per-point "
                 "time (for deskewing)");

@@ -26,8 +26,9 @@ inline void Check(bool ok, const char* what) {
 // replace a digit run by an extreme number.
 inline std::string Mutate(std::string s, std::mt19937_64& rng) {
   auto pick = [&](std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(rng() % n); };
-  static const char* kNumbers[] = {"nan", "-inf", "1e308", "-1e-320", "4294967296", "-1", "0",
-                                   "99999999999999999999", "0x10", ""};
+  static const char* kNumbers[] = {"nan",        "-inf", "1e308", "-1e-320",
+                                   "4294967296", "-1",   "0",     "99999999999999999999",
+                                   "0x10",       ""};
   switch (rng() % 7) {
     case 0:
       if (!s.empty()) s[pick(s.size())] ^= static_cast<char>(1u << (rng() % 8));

@@ -18,8 +18,7 @@ std::vector<std::string> KittiBinSeeds() {
   std::string bin;
   const float recs[3][4] = {{1.5f, -2.0f, 0.25f, 0.3f}, {10, 20, -1.7f, 0}, {-5, 0.1f, 3, 1}};
   bin.append(reinterpret_cast<const char*>(recs), sizeof(recs));
-  return {bin,
-          "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nTr: 0 -1 0 0.1 0 0 -1 0.2 1 0 0 0.3\n",
+  return {bin, "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nTr: 0 -1 0 0.1 0 0 -1 0.2 1 0 0 0.3\n",
           "0.0\n0.1037\n0.2073\n"};
 }
 
@@ -38,7 +37,8 @@ int KittiBinOneInput(const std::uint8_t* data, std::size_t size) {
     if (T) {
       const Eigen::Matrix3d R = T->RotationMatrix();
       Check(R.allFinite() && T->translation().allFinite(), "calib: non-finite");
-      Check((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6, "calib: not a rotation");
+      Check((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6,
+            "calib: not a rotation");
     }
   } catch (const IoError&) {
   }

@@ -148,9 +148,9 @@ std::optional<SE3d> ParseKittiCalibTr(const std::string& text, const std::string
     }
     const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
     if (err > 1e-2 || R.determinant() <= 0.0) {
-      throw IoError(name, where + "3x3 block is not a rotation (max |R^T R - I| = " +
-                              std::to_string(err) + ", det = " + std::to_string(R.determinant()) +
-                              ")");
+      throw IoError(
+          name, where + "3x3 block is not a rotation (max |R^T R - I| = " + std::to_string(err) +
+                    ", det = " + std::to_string(R.determinant()) + ")");
     }
     // Nearest rotation (polar decomposition via SVD).
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -197,8 +197,8 @@ std::vector<double> ParseKittiTimes(const std::string& text, const std::string& 
     if (!ParseDouble(t, &v)) throw IoError(name, where + "not a number: '" + t.substr(0, 40) + "'");
     if (!std::isfinite(v)) throw IoError(name, where + "non-finite time '" + t + "'");
     if (!times.empty() && v < times.back()) {
-      throw IoError(name, where + "time decreases (" + t + " after " +
-                              std::to_string(times.back()) + ")");
+      throw IoError(
+          name, where + "time decreases (" + t + " after " + std::to_string(times.back()) + ")");
     }
     times.push_back(v);
   }

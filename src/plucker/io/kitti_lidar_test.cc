@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <array>
-#include <cstring>
 #include <unistd.h>
+#include <array>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <random>
@@ -30,7 +30,9 @@ std::string Records(const std::vector<std::array<float, 4>>& recs) {
   return bytes;
 }
 
-void WriteRaw(const fs::path& p, const std::string& bytes) { WriteFileAtomically(p.string(), bytes); }
+void WriteRaw(const fs::path& p, const std::string& bytes) {
+  WriteFileAtomically(p.string(), bytes);
+}
 
 TEST(KittiBin, ParsesRecords) {
   const LidarScan scan = ParseKittiBin(Records({{1, 2, 3, 0.5f}, {-4, 5.5f, -6, 1}}), "a.bin");
@@ -45,9 +47,8 @@ TEST(KittiBin, DropsAndCountsNonFinite) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   ScanReadStats stats;
-  const LidarScan scan =
-      ParseKittiBin(Records({{1, 2, 3, 0}, {nan, 0, 0, 0}, {0, inf, 0, 0}, {4, 5, 6, nan}}), "a",
-                    &stats);
+  const LidarScan scan = ParseKittiBin(
+      Records({{1, 2, 3, 0}, {nan, 0, 0, 0}, {0, inf, 0, 0}, {4, 5, 6, nan}}), "a", &stats);
   EXPECT_EQ(stats.points_in_file, 4u);
   EXPECT_EQ(stats.non_finite_dropped, 2u);
   ASSERT_EQ(scan.size(), 2u);
@@ -122,7 +123,7 @@ TEST(KittiCalib, MissingTrIsNotAnError) {
 }
 
 TEST(KittiCalib, MalformedTrThrowsNamingFile) {
-  const char* bad[] = {"Tr: 1 0 0 0 0 1 0 0 0 0 1\n", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0 7\n",
+  const char* bad[] = {"Tr: 1 0 0 0 0 1 0 0 0 0 1\n",   "Tr: 1 0 0 0 0 1 0 0 0 0 1 0 7\n",
                        "Tr: 1 0 0 x 0 1 0 0 0 0 1 0\n", "Tr: 1 0 0 nan 0 1 0 0 0 0 1 0\n",
                        "Tr: 2 0 0 0 0 1 0 0 0 0 1 0\n", "Tr: -1 0 0 0 0 1 0 0 0 0 1 0\n"};
   for (const char* text : bad) {

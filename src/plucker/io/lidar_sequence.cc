@@ -83,8 +83,9 @@ LidarSequence LidarSequence::Open(const std::string& dir, const std::string& seq
   } else if (IsDir(base / "sequences")) {
     throw IoError(dir, "looks like a KITTI dataset root: choose a sequence (e.g. --sequence 00)");
   } else {
-    throw IoError(base.string(), "no LiDAR frames found (expected velodyne/*.bin, pcd/*.pcd or "
-                                 "*.pcd files)");
+    throw IoError(base.string(),
+                  "no LiDAR frames found (expected velodyne/*.bin, pcd/*.pcd or "
+                  "*.pcd files)");
   }
   seq.root_ = root.string();
 
@@ -122,8 +123,9 @@ LidarSequence LidarSequence::Open(const std::string& dir, const std::string& seq
       all_stamped = all_stamped && ParseStemNumber(f.stem().string(), &v);
       stamped.emplace_back(all_stamped ? v : 0.0, f);
     }
-    if (all_stamped) std::stable_sort(stamped.begin(), stamped.end(),
-                                      [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (all_stamped)
+      std::stable_sort(stamped.begin(), stamped.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
     for (std::size_t k = 0; k < stamped.size(); ++k) {
       LidarFrameRef ref;
       ref.index = k;
@@ -167,8 +169,8 @@ LidarSequence LidarSequence::Open(const std::string& dir, const std::string& seq
 }
 
 std::size_t LidarSequence::num_missing() const {
-  return static_cast<std::size_t>(
-      std::count_if(frames_.begin(), frames_.end(), [](const LidarFrameRef& f) { return f.missing; }));
+  return static_cast<std::size_t>(std::count_if(frames_.begin(), frames_.end(),
+                                                [](const LidarFrameRef& f) { return f.missing; }));
 }
 
 bool LidarSequence::Read(std::size_t i, LidarScan* scan, std::string* error,

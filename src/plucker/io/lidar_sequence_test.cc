@@ -64,8 +64,7 @@ TEST_F(LidarSequenceTest, KittiSequenceWithGapsAndBadFrames) {
   EXPECT_NEAR(seq.T_cam0_velo()->translation().z(), 0.3, 1e-15);
   ASSERT_EQ(seq.times().size(), 6u);
   EXPECT_FALSE(seq.has_point_time());
-  EXPECT_NE(seq.description().find("6 frames (1 missing)"), std::string::npos)
-      << seq.description();
+  EXPECT_NE(seq.description().find("6 frames (1 missing)"), std::string::npos) << seq.description();
 
   LidarScan scan;
   std::string error;

@@ -213,16 +213,16 @@ PcdHeader ParsePcdHeader(const std::string& bytes, const std::string& name) {
   if (!have_height) throw IoError(name, "PCD header: missing HEIGHT");
   const std::size_t nf = h.fields.size();
   if (sizes.size() != nf) {
-    throw IoError(name, "PCD header: SIZE has " + std::to_string(sizes.size()) +
-                            " entries for " + std::to_string(nf) + " FIELDS");
+    throw IoError(name, "PCD header: SIZE has " + std::to_string(sizes.size()) + " entries for " +
+                            std::to_string(nf) + " FIELDS");
   }
   if (types.size() != nf) {
-    throw IoError(name, "PCD header: TYPE has " + std::to_string(types.size()) +
-                            " entries for " + std::to_string(nf) + " FIELDS");
+    throw IoError(name, "PCD header: TYPE has " + std::to_string(types.size()) + " entries for " +
+                            std::to_string(nf) + " FIELDS");
   }
   if (have_count && counts.size() != nf) {
-    throw IoError(name, "PCD header: COUNT has " + std::to_string(counts.size()) +
-                            " entries for " + std::to_string(nf) + " FIELDS");
+    throw IoError(name, "PCD header: COUNT has " + std::to_string(counts.size()) + " entries for " +
+                            std::to_string(nf) + " FIELDS");
   }
   for (std::size_t i = 0; i < nf; ++i) {
     PcdField& f = h.fields[i];
@@ -347,9 +347,9 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
     while (values.size() < need) {
       while (p < data_size && std::isspace(static_cast<unsigned char>(text[p]))) ++p;
       if (p >= data_size) {
-        throw IoError(name, "truncated ascii data: " + std::to_string(values.size() /
-                                                                      values_per_point) +
-                                " complete points of " + std::to_string(n) + " declared");
+        throw IoError(name,
+                      "truncated ascii data: " + std::to_string(values.size() / values_per_point) +
+                          " complete points of " + std::to_string(n) + " declared");
       }
       const std::size_t b = p;
       while (p < data_size && !std::isspace(static_cast<unsigned char>(text[p]))) ++p;
@@ -375,9 +375,9 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
         // Field-major: all elements of field 0 for every point, then field 1, ...
         const std::size_t base = offset[f] * n;
         const std::size_t elem = static_cast<std::size_t>(fd.size) * fd.count;
-        return LoadScalar(reinterpret_cast<const unsigned char*>(decompressed.data()) + base +
-                              i * elem,
-                          fd.size, fd.type);
+        return LoadScalar(
+            reinterpret_cast<const unsigned char*>(decompressed.data()) + base + i * elem, fd.size,
+            fd.type);
       }
     }
   };

@@ -6,12 +6,12 @@
 // decompressed by our own LZF decoder.
 //
 // Fields read: x y z (required; float or double), intensity (optional; any numeric type),
-// ring (optional; integer or float), time or t (optional; per-point time). Other fields are skipped.
-// Point time conventions: float/double `time`/`t` are seconds; an unsigned-integer `t` (Ouster)
-// is nanoseconds. Times are made relative to the scan start: when some time is negative (times
-// relative to the sweep end) or all are > 1 s (absolute stamps), the minimum is subtracted and,
-// for absolute stamps, stored as the scan timestamp.
-// Points with a NaN/Inf coordinate are dropped and counted (organised clouds use NaN for no-return).
+// ring (optional; integer or float), time or t (optional; per-point time). Other fields are
+// skipped. Point time conventions: float/double `time`/`t` are seconds; an unsigned-integer `t`
+// (Ouster) is nanoseconds. Times are made relative to the scan start: when some time is negative
+// (times relative to the sweep end) or all are > 1 s (absolute stamps), the minimum is subtracted
+// and, for absolute stamps, stored as the scan timestamp. Points with a NaN/Inf coordinate are
+// dropped and counted (organised clouds use NaN for no-return).
 //
 // Errors (IoError naming the file and the problem): malformed/missing header entries, x/y/z
 // missing, SIZE/TYPE/COUNT mismatches or unsupported sizes, WIDTH*HEIGHT != POINTS, truncated

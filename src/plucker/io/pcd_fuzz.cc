@@ -39,8 +39,10 @@ std::vector<std::string> PcdSeeds() {
   compressed.append(reinterpret_cast<const char*>(sizes), 8);
   compressed.push_back(static_cast<char>(raw.size() - 1));
   compressed += raw;
-  return {SerializePcd(scan, PcdEncoding::kAscii), SerializePcd(scan, PcdEncoding::kBinary),
-          SerializePcd(plain, PcdEncoding::kBinary), compressed,
+  return {SerializePcd(scan, PcdEncoding::kAscii),
+          SerializePcd(scan, PcdEncoding::kBinary),
+          SerializePcd(plain, PcdEncoding::kBinary),
+          compressed,
           SerializePly(scan.points, scan.intensity, PlyFormat::kAscii),
           SerializePly(scan.points, {}, PlyFormat::kBinaryLittleEndian)};
 }

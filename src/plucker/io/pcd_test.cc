@@ -164,12 +164,15 @@ TEST(Pcd, BinaryCompressed) {
   EXPECT_EQ(scan.points[2], Eigen::Vector3d(3, 6, 9));
   EXPECT_FLOAT_EQ(scan.intensity[1], 0.2f);
   // Corrupt stream: cut the last literal short.
-  ExpectError(bytes.substr(0, bytes.size() - 8) + [&] {
-    std::string s;
-    AppendU32(static_cast<std::uint32_t>(lzf.size() - 3), &s);
-    AppendU32(static_cast<std::uint32_t>(raw.size()), &s);
-    return s + lzf.substr(0, lzf.size() - 3);
-  }(), "corrupt LZF");
+  ExpectError(
+      bytes.substr(0, bytes.size() - 8) +
+          [&] {
+            std::string s;
+            AppendU32(static_cast<std::uint32_t>(lzf.size() - 3), &s);
+            AppendU32(static_cast<std::uint32_t>(raw.size()), &s);
+            return s + lzf.substr(0, lzf.size() - 3);
+          }(),
+      "corrupt LZF");
   ExpectError(bytes + lzf.substr(0, 10), "truncated binary_compressed");
 }
 
@@ -179,7 +182,7 @@ TEST(Pcd, LzfBackReference) {
   std::string out;
   ASSERT_TRUE(LzfDecompress(in, sizeof(in), 9, &out));
   EXPECT_EQ(out, "abcabcabc");
-  EXPECT_FALSE(LzfDecompress(in, sizeof(in), 10, &out));  // wrong size
+  EXPECT_FALSE(LzfDecompress(in, sizeof(in), 10, &out));     // wrong size
   const unsigned char bad_offset[] = {0, 'a', (1 << 5), 5};  // refers before the start
   EXPECT_FALSE(LzfDecompress(bad_offset, sizeof(bad_offset), 4, &out));
 }
@@ -195,12 +198,14 @@ TEST(Pcd, HeaderErrors) {
               "invalid SIZE");
   ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nWIDTH 1\nHEIGHT 1\nDATA ascii\n",
               "must have SIZE 4 or 8");
-  ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 0\nWIDTH 1\nHEIGHT 1\n"
-              "DATA ascii\n",
-              "invalid COUNT");
-  ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 3\n"
-              "DATA ascii\n",
-              "POINTS 3 != WIDTH*HEIGHT 2");
+  ExpectError(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 0\nWIDTH 1\nHEIGHT 1\n"
+      "DATA ascii\n",
+      "invalid COUNT");
+  ExpectError(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 3\n"
+      "DATA ascii\n",
+      "POINTS 3 != WIDTH*HEIGHT 2");
   ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\n",
               "missing DATA");
   ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nHEIGHT 1\nDATA zip\n",
@@ -214,9 +219,10 @@ TEST(Pcd, HeaderErrors) {
   ExpectError(std::string(kHeader3) + "VIEWPOINT 0 0\nDATA ascii\n", "expected 7 numbers");
   ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 0\nHEIGHT 1\nDATA ascii\n",
               "empty point cloud");
-  ExpectError("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE I F F\nWIDTH 1\nHEIGHT 1\nDATA ascii\n"
-              "1 2 3\n",
-              "must be a float");
+  ExpectError(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE I F F\nWIDTH 1\nHEIGHT 1\nDATA ascii\n"
+      "1 2 3\n",
+      "must be a float");
 }
 
 TEST(Pcd, DataErrors) {

@@ -24,10 +24,10 @@ bool PlyType(const std::string& t, PlyProperty* p) {
     const char* name;
     int size;
     char type;
-  } kTypes[] = {{"char", 1, 'I'},   {"int8", 1, 'I'},    {"uchar", 1, 'U'},  {"uint8", 1, 'U'},
-                {"short", 2, 'I'},  {"int16", 2, 'I'},   {"ushort", 2, 'U'}, {"uint16", 2, 'U'},
-                {"int", 4, 'I'},    {"int32", 4, 'I'},   {"uint", 4, 'U'},   {"uint32", 4, 'U'},
-                {"float", 4, 'F'},  {"float32", 4, 'F'}, {"double", 8, 'F'}, {"float64", 8, 'F'}};
+  } kTypes[] = {{"char", 1, 'I'},  {"int8", 1, 'I'},    {"uchar", 1, 'U'},  {"uint8", 1, 'U'},
+                {"short", 2, 'I'}, {"int16", 2, 'I'},   {"ushort", 2, 'U'}, {"uint16", 2, 'U'},
+                {"int", 4, 'I'},   {"int32", 4, 'I'},   {"uint", 4, 'U'},   {"uint32", 4, 'U'},
+                {"float", 4, 'F'}, {"float32", 4, 'F'}, {"double", 8, 'F'}, {"float64", 8, 'F'}};
   for (const auto& k : kTypes) {
     if (t == k.name) {
       p->size = k.size;
@@ -81,8 +81,7 @@ std::string SerializePly(const std::vector<Eigen::Vector3d>& points,
     const Eigen::Vector3f p = points[i].cast<float>();
     if (format == PlyFormat::kAscii) {
       if (has_i) {
-        std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g\n", p.x(), p.y(), p.z(),
-                      intensity[i]);
+        std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g\n", p.x(), p.y(), p.z(), intensity[i]);
       } else {
         std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g\n", p.x(), p.y(), p.z());
       }
@@ -207,8 +206,8 @@ LidarScan ParsePly(const std::string& bytes, const std::string& name, ScanReadSt
                               " bytes present");
     }
   } else if (count > data_size / (2 * props.size()) + 1) {
-    throw IoError(name, "truncated ascii data: file too short for " + std::to_string(count) +
-                            " vertices");
+    throw IoError(
+        name, "truncated ascii data: file too short for " + std::to_string(count) + " vertices");
   }
   cloud.points.reserve(count);
   if (ii >= 0) cloud.intensity.reserve(count);
@@ -245,7 +244,8 @@ LidarScan ParsePly(const std::string& bytes, const std::string& name, ScanReadSt
       continue;
     }
     cloud.points.push_back(p);
-    if (ii >= 0) cloud.intensity.push_back(std::isfinite(row[ii]) ? static_cast<float>(row[ii]) : 0.f);
+    if (ii >= 0)
+      cloud.intensity.push_back(std::isfinite(row[ii]) ? static_cast<float>(row[ii]) : 0.f);
   }
   if (stats) {
     stats->points_in_file = count;

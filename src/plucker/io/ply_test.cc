@@ -56,7 +56,8 @@ TEST(Ply, RoundTripBothFormats) {
 TEST(Ply, ReadsOtherPropertiesAndTrailingElements) {
   const std::string bytes =
       "ply\nformat ascii 1.0\ncomment x\nelement vertex 2\nproperty double x\nproperty uchar red\n"
-      "property double y\nproperty double z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "property double y\nproperty double z\nelement face 1\nproperty list uchar int "
+      "vertex_indices\n"
       "end_header\n1 255 2 3\n4 0 5 nan\n3 0 1 2\n";
   ScanReadStats stats;
   const LidarScan cloud = ParsePly(bytes, "m.ply", &stats);
@@ -68,26 +69,33 @@ TEST(Ply, ReadsOtherPropertiesAndTrailingElements) {
 TEST(Ply, Errors) {
   ExpectError("plx\n", "no 'ply' magic");
   ExpectError("ply\nformat binary_big_endian 1.0\nelement vertex 1\nend_header\n", "big_endian");
-  ExpectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-              "end_header\n1 2\n",
-              "lacks x, y or z");
-  ExpectError("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-              "property float z\nend_header\n1 2 3\n",
-              "truncated ascii");
-  ExpectError("ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
-              "property float y\nproperty float z\nend_header\n" + std::string(12, '\0'),
-              "truncated binary");
-  ExpectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-              "property float z\n",
-              "missing end_header");
-  ExpectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-              "property float z\nend_header\n1 b 3\n",
-              "malformed number");
+  ExpectError(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "end_header\n1 2\n",
+      "lacks x, y or z");
+  ExpectError(
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n1 2 3\n",
+      "truncated ascii");
+  ExpectError(
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n" +
+          std::string(12, '\0'),
+      "truncated binary");
+  ExpectError(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\n",
+      "missing end_header");
+  ExpectError(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n1 b 3\n",
+      "malformed number");
   ExpectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar int x\nend_header\n",
               "list property");
-  ExpectError("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
-              "property float z\nend_header\n",
-              "empty point cloud");
+  ExpectError(
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n",
+      "empty point cloud");
 }
 
 }  // namespace

@@ -21,8 +21,8 @@ std::vector<std::string> PoseSeeds() {
 
 int PoseOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  for (TrajectoryFormat f : {TrajectoryFormat::kAuto, TrajectoryFormat::kKitti,
-                             TrajectoryFormat::kTum}) {
+  for (TrajectoryFormat f :
+       {TrajectoryFormat::kAuto, TrajectoryFormat::kKitti, TrajectoryFormat::kTum}) {
     try {
       const Trajectory tr = ParseTrajectory(text, "fuzz_poses.txt", f);
       Check(tr.times.empty() || tr.times.size() == tr.poses.size(), "times/poses sizes");

@@ -8,8 +8,9 @@ namespace plucker {
 namespace io {
 
 struct ScanReadStats {
-  std::size_t points_in_file = 0;      // records present in the file
-  std::size_t non_finite_dropped = 0;  // records with a NaN/Inf coordinate, dropped (never passed on)
+  std::size_t points_in_file = 0;  // records present in the file
+  std::size_t non_finite_dropped =
+      0;  // records with a NaN/Inf coordinate, dropped (never passed on)
 };
 
 }  // namespace io

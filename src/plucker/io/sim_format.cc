@@ -548,7 +548,9 @@ bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why) {
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     any = true;
     const std::string name = it->path().filename().string();
-    const bool temp = name.size() > 13 && name.compare(name.size() - 13, 13, ".tmp-plucker") == 0;
+    const std::string suffix = ".tmp-plucker";  // left behind by an interrupted atomic write
+    const bool temp = name.size() > suffix.size() &&
+                      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
     if (!it->is_regular_file() || (!known.count(name) && !temp)) {
       return refuse(Join(dir, name) + " is not part of a camera simulation");
     }

@@ -251,6 +251,8 @@ TEST_F(SimFormatTest, SafeToWriteOnlyIntoEmptyOrPreviousOutput) {
   EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why));  // empty
   WriteCameraSimulation(dir_, SmallSimulation());
   EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why)) << why;  // a previous simulation
+  WriteText(fs::path(dir_) / "imu.txt.tmp-plucker", "partial");   // an interrupted write
+  EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why)) << why;
   WriteText(fs::path(dir_) / "notes.md", "mine");
   EXPECT_FALSE(IsSafeToWriteCameraSimulation(dir_, &why));
   EXPECT_NE(why.find("notes.md"), std::string::npos) << why;

@@ -53,14 +53,21 @@ LocalFit Fit(const std::vector<Eigen::Vector3d>& pts) {
   return fit;
 }
 
-// Every `stride`-th element so that at most `cap` remain.
-void StrideSample(int cap, std::vector<Eigen::Vector3d>* v) {
+// Every `stride`-th element so that at most `cap` remain (times alongside when present).
+void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>* times) {
   if (cap <= 0 || static_cast<int>(v->size()) <= cap) return;
+  const bool with_times = times->size() == v->size();
   const double step = static_cast<double>(v->size()) / cap;
   std::vector<Eigen::Vector3d> out;
+  std::vector<double> out_times;
   out.reserve(cap);
-  for (int i = 0; i < cap; ++i) out.push_back((*v)[static_cast<std::size_t>(i * step)]);
+  for (int i = 0; i < cap; ++i) {
+    const std::size_t j = static_cast<std::size_t>(i * step);
+    out.push_back((*v)[j]);
+    if (with_times) out_times.push_back((*times)[j]);
+  }
   v->swap(out);
+  if (with_times) times->swap(out_times);
 }
 
 }  // namespace
@@ -181,17 +188,28 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   }
   result.features = features.stats;
   const SE3d T_pred = Predict();
-  if (deskew && poses_.size() >= 2) {
-    const SE3d motion = poses_[poses_.size() - 2].Inverse() * poses_.back();
-    DeskewPoints(motion, o.features.scan_period, features.edge_times, &features.edges);
-    DeskewPoints(motion, o.features.scan_period, features.plane_times, &features.planes);
-    result.deskewed = true;
-  }
+  if (!o.use_edges) features.edges.clear();
+  StrideSample(o.max_edge_points, &features.edges, &features.edge_times);
+  StrideSample(o.max_plane_points, &features.planes, &features.plane_times);
+  // Deskew: the feature points are moved to the scan-start frame with the motion over this
+  // sweep, T_{k-1}^-1 T (constant velocity), re-done with the current estimate in every round.
+  const bool can_deskew = deskew && !poses_.empty();
+  const std::vector<Eigen::Vector3d> raw_edges =
+      can_deskew ? features.edges : std::vector<Eigen::Vector3d>();
+  const std::vector<Eigen::Vector3d> raw_planes =
+      can_deskew ? features.planes : std::vector<Eigen::Vector3d>();
   std::vector<Eigen::Vector3d>& edge_pts = features.edges;
   std::vector<Eigen::Vector3d>& plane_pts = features.planes;
-  if (!o.use_edges) edge_pts.clear();
-  StrideSample(o.max_edge_points, &edge_pts);
-  StrideSample(o.max_plane_points, &plane_pts);
+  auto deskew_with = [&](const SE3d& T_w_s) {
+    if (!can_deskew) return;
+    const SE3d motion = poses_.back().Inverse() * T_w_s;
+    edge_pts = raw_edges;
+    plane_pts = raw_planes;
+    DeskewPoints(motion, o.features.scan_period, features.edge_times, &edge_pts);
+    DeskewPoints(motion, o.features.scan_period, features.plane_times, &plane_pts);
+    result.deskewed = true;
+  };
+  deskew_with(T_pred);
   result.edge_points = static_cast<int>(edge_pts.size());
   result.plane_points = static_cast<int>(plane_pts.size());
   result.timing.features = (ThreadCpuMs() - t0);
@@ -206,8 +224,9 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
     const double max_d = std::min(o.max_correspondence_distance, plane_map_.options().voxel_size);
     const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
     for (int round = 0; round < max_rounds; ++round) {
-      // 3. Correspondences.
+      // 3. Correspondences (after deskewing with the current estimate).
       t0 = ThreadCpuMs();
+      if (round > 0) deskew_with(T);
       const Eigen::Matrix3d R = T.RotationMatrix();
       const Eigen::Vector3d t = T.translation();
       impl_->planes.clear();
@@ -299,6 +318,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
 
   // 5. Map update.
   t0 = ThreadCpuMs();
+  if (registered && !first) deskew_with(T);
   result.ok = registered;
   result.error = registered ? std::string() : error;
   result.T_w_s = registered ? T : T_pred;

@@ -7,7 +7,8 @@
 // Per scan:
 //   1. rings (kept from the scan, else from the firing order or the sensor's elevation table);
 //   2. features; when deskewing, the feature points are moved to the scan-start frame with the
-//      constant-velocity motion;
+//      motion over the sweep T_{k-1}^-1 T, T being the current estimate (the constant-velocity
+//      prediction first, then re-done at every association round);
 //   3. prediction T_pred = T_{k-1} (T_{k-2}^-1 T_{k-1});
 //   4. `association_rounds` times (up to max_association_rounds while the pose still moves by
 //      more than the convergence thresholds in a round): transform the features with the current
@@ -61,7 +62,7 @@ struct LidarOdometryOptions {
   double loss_scale = 2.0;  // in sigma units (Huber/Cauchy parameter)
   bool use_edges = true;
   int association_rounds = 2;              // re-association rounds per scan (minimum)
-  int max_association_rounds = 8;          // more rounds while the pose still moves by more
+  int max_association_rounds = 5;          // more rounds while the pose still moves by more
   double convergence_translation = 0.005;  // m   than these in a round (large initial errors,
   double convergence_rotation_deg = 0.02;  // deg e.g. the first scan pair from zero velocity)
   int max_iterations = 4;                  // Ceres iterations per round

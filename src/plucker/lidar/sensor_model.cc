@@ -56,7 +56,7 @@ SensorModel HDL64() {
   SensorModel m;
   m.name = "hdl64";
   std::vector<double> deg;
-  for (int i = 0; i < 32; ++i) deg.push_back(2.0 - i * (2.0 + 8.33) / 31.0);     // upper block
+  for (int i = 0; i < 32; ++i) deg.push_back(2.0 - i * (2.0 + 8.33) / 31.0);      // upper block
   for (int i = 0; i < 32; ++i) deg.push_back(-8.83 - i * (24.33 - 8.83) / 31.0);  // lower block
   m.elevation_rad = SortedRadians(deg);
   m.min_range = 0.9;
@@ -70,10 +70,10 @@ SensorModel VLP32() {
   SensorModel m;
   m.name = "vlp32";
   // VLP-32C vertical angles (degrees) from the manufacturer's table, in laser-id order.
-  m.elevation_rad = SortedRadians({-25.0,  -1.0,   -1.667, -15.639, -11.31, 0.0,    -0.667, -8.843,
-                                   -7.254, 0.333,  -0.333, -6.148,  -5.333, 1.333,  0.667,  -4.0,
-                                   -4.667, 1.667,  1.0,    -3.667,  -3.333, 3.333,  2.333,  -2.667,
-                                   -3.0,   7.0,    4.667,  -2.333,  -2.0,   15.0,   10.333, -1.333});
+  m.elevation_rad = SortedRadians({-25.0,  -1.0,  -1.667, -15.639, -11.31, 0.0,   -0.667, -8.843,
+                                   -7.254, 0.333, -0.333, -6.148,  -5.333, 1.333, 0.667,  -4.0,
+                                   -4.667, 1.667, 1.0,    -3.667,  -3.333, 3.333, 2.333,  -2.667,
+                                   -3.0,   7.0,   4.667,  -2.333,  -2.0,   15.0,  10.333, -1.333});
   m.min_range = 0.5;
   m.max_range = 200.0;
   m.azimuth_steps = 1800;
@@ -107,7 +107,8 @@ RingAssignmentStats AssignRings(LidarScan* scan, const SensorModel& model) {
   RingAssignmentStats stats;
   if (scan->ring.size() == scan->size() && !scan->empty()) {
     stats.rings_found = CountRings(scan->ring);
-    stats.unassigned = static_cast<std::size_t>(std::count(scan->ring.begin(), scan->ring.end(), -1));
+    stats.unassigned =
+        static_cast<std::size_t>(std::count(scan->ring.begin(), scan->ring.end(), -1));
     return stats;
   }
   scan->ring.resize(scan->size());
@@ -136,8 +137,9 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   // Each beam sweeps one turn starting at a seam azimuth a0 (KITTI: the front, az ~ 0). In the
   // angle u = dir * (az - a0) wrapped into [0, 2 pi), a ring ends where u drops by more than the
   // threshold once the current ring has reached u > pi (so that jitter around the seam does not
-  // split a ring, and rings with few returns still end at the seam). Pass 1 takes a0 from the first point; pass 2 moves a0 just
-  // before the earliest ring start found, so that no ring start falls behind the seam.
+  // split a ring, and rings with few returns still end at the seam). Pass 1 takes a0 from the first
+  // point; pass 2 moves a0 just before the earliest ring start found, so that no ring start falls
+  // behind the seam.
   auto split = [&](double a0) {
     std::vector<std::size_t> starts = {0};
     auto u = [&](std::size_t i) {

@@ -49,7 +49,7 @@ SensorModel VLP16();
 SensorModel FromName(const std::string& name);
 
 struct RingAssignmentStats {
-  int rings_found = 0;       // distinct rings that received points
+  int rings_found = 0;         // distinct rings that received points
   std::size_t unassigned = 0;  // points with ring -1 (outside the table)
 };
 

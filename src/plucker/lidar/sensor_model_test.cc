@@ -102,7 +102,8 @@ TEST(SensorModel, AutoDetectOnSimulatedScans) {
 }
 
 TEST(SensorModel, RealKittiScans) {
-  const fs::path dir = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-odometry-00/sequences/00/velodyne";
+  const fs::path dir =
+      fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-odometry-00/sequences/00/velodyne";
   if (!fs::exists(dir / "000000.bin")) GTEST_SKIP() << "no KITTI extract at " << dir;
   for (const char* name : {"000000.bin", "000015.bin"}) {
     LidarScan scan = io::ReadKittiBin((dir / name).string());
@@ -120,7 +121,8 @@ TEST(SensorModel, RealKittiScans) {
     for (const auto& [ring, n] : count) typical += (n >= 1500 && n <= 2200);
     EXPECT_GE(typical, 50u) << name;  // near-empty rings: sky/vehicle-masked beams
     // Ring 0 is the lowest beam.
-    EXPECT_LT(elevation[0] / count[0], elevation[order.rings_found - 1] / count[order.rings_found - 1]);
+    EXPECT_LT(elevation[0] / count[0],
+              elevation[order.rings_found - 1] / count[order.rings_found - 1]);
     // Elevation rings agree with scan-order rings for most points (the table is approximate).
     const RingAssignmentStats el = AssignRings(&by_elevation, HDL64());
     EXPECT_GE(el.rings_found, 60) << name;
@@ -131,7 +133,8 @@ TEST(SensorModel, RealKittiScans) {
       agree2 += std::abs(scan.ring[i] - by_elevation.ring[i]) <= 2;
     }
     std::printf("%s: %d scan-order rings; elevation rings within 1: %.1f%%, within 2: %.1f%%\n",
-                name, order.rings_found, 100.0 * agree1 / scan.size(), 100.0 * agree2 / scan.size());
+                name, order.rings_found, 100.0 * agree1 / scan.size(),
+                100.0 * agree2 / scan.size());
     EXPECT_GT(static_cast<double>(agree2) / scan.size(), 0.7) << name;
     double confidence = 0;
     EXPECT_EQ(AutoDetectSensor(scan, &confidence).name, "hdl64") << name;

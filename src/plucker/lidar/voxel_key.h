@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -18,10 +19,13 @@ inline std::uint64_t PackVoxel(const Eigen::Vector3i& v) {
   return (x << 42) | (y << 21) | z;
 }
 
+// Voxel coordinates, clamped to the packable range (no overflow for absurd inputs).
 inline Eigen::Vector3i VoxelOf(const Eigen::Vector3d& p, double inv_size) {
-  return Eigen::Vector3i(static_cast<int>(std::floor(p.x() * inv_size)),
-                         static_cast<int>(std::floor(p.y() * inv_size)),
-                         static_cast<int>(std::floor(p.z() * inv_size)));
+  constexpr double kLimit = 1048000.0;
+  auto cell = [&](double v) {
+    return static_cast<int>(std::clamp(std::floor(v * inv_size), -kLimit, kLimit));
+  };
+  return Eigen::Vector3i(cell(p.x()), cell(p.y()), cell(p.z()));
 }
 
 // A cheap mixing hash for the packed key (robin_map's std::hash<uint64_t> is the identity).

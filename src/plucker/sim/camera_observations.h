@@ -107,7 +107,7 @@ struct CameraSimulation {
   ImuOptions imu_options;           // the noise model the IMU samples were drawn with
   ObservationOptions obs_options;   // the pixel noise / outlier model of the observations
   std::vector<double> frame_times;  // s
-  std::vector<SE3d> T_w_c_gt;       // = T_w_b_gt[i] * rig.T_b_c
+  std::vector<SE3d> T_w_c_gt;       // = T_w_b_gt[i] * rig.T_b_c (to the last bit)
   std::vector<SE3d> T_w_b_gt;
   std::vector<Eigen::Vector3d> v_w_gt;  // body velocity at the frame times
   std::vector<PointObservation> points;

@@ -44,8 +44,9 @@ std::optional<RayHit> IntersectRectangle(const Rectangle& r, const Eigen::Vector
 namespace {
 
 // IntersectBox with the yaw's cosine and sine precomputed.
-std::optional<RayHit> IntersectBoxCS(const Box& b, double c, double s, const Eigen::Vector3d& origin,
-                                     const Eigen::Vector3d& dir, double t_min, double t_max) {
+std::optional<RayHit> IntersectBoxCS(const Box& b, double c, double s,
+                                     const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                                     double t_min, double t_max) {
   const Eigen::Vector3d q = origin - b.center;
   const Eigen::Vector3d o(c * q.x() + s * q.y(), -s * q.x() + c * q.y(), q.z());
   const Eigen::Vector3d d(c * dir.x() + s * dir.y(), -s * dir.x() + c * dir.y(), dir.z());
@@ -78,7 +79,8 @@ std::optional<RayHit> IntersectBoxCS(const Box& b, double c, double s, const Eig
   n_box[axis] = d[axis] > 0 ? -1.0 : 1.0;  // facing the ray origin
   RayHit hit;
   hit.distance = t;
-  hit.normal = Eigen::Vector3d(c * n_box.x() - s * n_box.y(), s * n_box.x() + c * n_box.y(), n_box.z());
+  hit.normal =
+      Eigen::Vector3d(c * n_box.x() - s * n_box.y(), s * n_box.x() + c * n_box.y(), n_box.z());
   return hit;
 }
 
@@ -222,7 +224,8 @@ void LidarScene::Build() {
     std::vector<int> fill;
     if (pass == 1) {
       cell_start_.assign(counts.size(), 0);
-      for (std::size_t c = 1; c < counts.size(); ++c) cell_start_[c] = cell_start_[c - 1] + counts[c - 1];
+      for (std::size_t c = 1; c < counts.size(); ++c)
+        cell_start_[c] = cell_start_[c - 1] + counts[c - 1];
       cell_items_.assign(cell_start_.back(), -1);
       fill.assign(cell_start_.begin(), cell_start_.end() - 1);
     }
@@ -365,7 +368,8 @@ void AddBuilding(LidarScene* scene, const Eigen::Vector2d& lo, const Eigen::Vect
     for (double z = floor_h; z < height - 1.0; z += floor_h) {
       Box ledge;
       ledge.center = mid * t_axis + (face + sign * 0.5 * depth) * n_axis + Eigen::Vector3d(0, 0, z);
-      ledge.half_size = 0.5 * Eigen::Vector3d(along_x ? length : depth, along_x ? depth : length, 0.25);
+      ledge.half_size =
+          0.5 * Eigen::Vector3d(along_x ? length : depth, along_x ? depth : length, 0.25);
       scene->AddBox(ledge);
     }
     // Pilasters: vertical strips, 0.6 m wide, full height.

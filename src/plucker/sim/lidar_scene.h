@@ -37,9 +37,9 @@ struct Cylinder {
 };
 
 struct RayHit {
-  double distance = 0.0;                       // along the unit direction
+  double distance = 0.0;                              // along the unit direction
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, facing the ray origin
-  int primitive = -1;                          // index in LidarScene::primitive order
+  int primitive = -1;                                 // index in LidarScene::primitive order
 };
 
 // Ray / primitive intersections: the smallest t in (t_min, t_max] with origin + t*dir on the

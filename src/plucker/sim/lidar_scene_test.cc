@@ -21,11 +21,12 @@ TEST(RayIntersection, RectangleAtAnalyticDistance) {
   const auto hit = IntersectRectangle(r, o, d, 0.0, 100.0);
   ASSERT_TRUE(hit.has_value());
   EXPECT_NEAR(hit->distance, 10.0 / d.x(), 1e-12);
-  EXPECT_NEAR(hit->normal.x(), -1.0, 1e-12);  // faces the origin
-  EXPECT_FALSE(IntersectRectangle(r, o, d, 0.0, 5.0));                      // beyond t_max
-  EXPECT_FALSE(IntersectRectangle(r, o, Eigen::Vector3d(1, 0.5, 0).normalized(), 0, 100));  // beside
-  EXPECT_FALSE(IntersectRectangle(r, o, Eigen::Vector3d::UnitY(), 0, 100));  // parallel
-  EXPECT_FALSE(IntersectRectangle(r, o, -d, 0, 100));                        // behind
+  EXPECT_NEAR(hit->normal.x(), -1.0, 1e-12);            // faces the origin
+  EXPECT_FALSE(IntersectRectangle(r, o, d, 0.0, 5.0));  // beyond t_max
+  EXPECT_FALSE(
+      IntersectRectangle(r, o, Eigen::Vector3d(1, 0.5, 0).normalized(), 0, 100));  // beside
+  EXPECT_FALSE(IntersectRectangle(r, o, Eigen::Vector3d::UnitY(), 0, 100));        // parallel
+  EXPECT_FALSE(IntersectRectangle(r, o, -d, 0, 100));                              // behind
 }
 
 TEST(RayIntersection, BoxAxisAlignedYawedAndFromInside) {

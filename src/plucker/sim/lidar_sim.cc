@@ -144,7 +144,8 @@ LidarScan LidarSimulator::Scan(const VehicleTrajectory& trajectory, double t0,
     cos_az[k] = std::cos(az);
     sin_az[k] = std::sin(az);
   }
-  std::mt19937_64 rng(options_.seed * 0x9E3779B97F4A7C15ull ^ (frame_index + 1) * 0xD1B54A32D192ED03ull);
+  std::mt19937_64 rng(options_.seed * 0x9E3779B97F4A7C15ull ^
+                      (frame_index + 1) * 0xD1B54A32D192ED03ull);
   LidarScan scan;
   scan.timestamp = t0;
   scan.points.reserve(static_cast<std::size_t>(A) * rings / 2);

@@ -17,9 +17,9 @@ namespace plucker {
 namespace sim {
 
 struct VehicleTrajectoryOptions {
-  double speed = 10.0;          // m/s along the route
-  double corner_radius = 12.0;  // m, turns are circular arcs of this radius (clamped to fit)
-  double mount_height = 1.73;   // m, sensor above the ground (KITTI HDL-64E)
+  double speed = 10.0;                // m/s along the route
+  double corner_radius = 12.0;        // m, turns are circular arcs of this radius (clamped to fit)
+  double mount_height = 1.73;         // m, sensor above the ground (KITTI HDL-64E)
   double pitch_roll_amplitude = 0.0;  // rad, slow sinusoidal pitch/roll (0 = flat)
 };
 
@@ -39,7 +39,7 @@ class VehicleTrajectory {
     Eigen::Vector2d start = Eigen::Vector2d::Zero();  // straight: start + s*dir
     Eigen::Vector2d dir = Eigen::Vector2d::UnitX();
     Eigen::Vector2d center = Eigen::Vector2d::Zero();  // arc
-    double radius = 0, angle0 = 0, turn = 0;  // arc: angle0 + s/radius*sign(turn)
+    double radius = 0, angle0 = 0, turn = 0;           // arc: angle0 + s/radius*sign(turn)
     double length = 0, s0 = 0;
   };
   VehicleTrajectoryOptions options_;

@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <set>
 
 namespace plucker {
@@ -38,13 +38,15 @@ TEST_F(LidarSimTest, TrajectoryIsSmoothAtConstantSpeed) {
   for (double t = 0; t < traj_.loop_duration(); t += 0.37) {
     const SE3d a = traj_.T_w_s(t), b = traj_.T_w_s(t + dt);
     EXPECT_NEAR((b.translation() - a.translation()).norm() / dt, 10.0, 1e-3) << t;
-    EXPECT_LT(std::abs(2 * std::acos(std::min(1.0, std::abs((a.rotation().conjugate() * b.rotation()).w())))),
+    EXPECT_LT(std::abs(2 * std::acos(std::min(
+                               1.0, std::abs((a.rotation().conjugate() * b.rotation()).w())))),
               0.02);  // < 2 rad/s yaw rate
     EXPECT_NEAR(a.translation().z(), 1.73, 1e-12);
   }
   // The loop closes.
-  EXPECT_LT((traj_.T_w_s(0).translation() - traj_.T_w_s(traj_.loop_duration()).translation()).norm(),
-            1e-6);
+  EXPECT_LT(
+      (traj_.T_w_s(0).translation() - traj_.T_w_s(traj_.loop_duration()).translation()).norm(),
+      1e-6);
 }
 
 TEST_F(LidarSimTest, BeamsRingsAndGeometry) {

@@ -159,6 +159,12 @@ class SceneBuilder {
     }
   }
 
+  double TotalPatchArea() const {
+    double area = 0.0;
+    for (const Patch& p : patches_) area += p.u.cross(p.v).norm();
+    return area;
+  }
+
   // Scatters n points on the patches, proportionally to their areas.
   void ScatterPoints(int n) {
     if (n <= 0 || patches_.empty()) return;
@@ -323,9 +329,7 @@ Scene MakeScene(const SceneOptions& options, std::uint64_t seed) {
     }
   }
   if (options.num_points < -1) throw std::invalid_argument("MakeScene: num_points < -1");
-  const int default_points[3] = {600, 800, 1500};
-  const int num_points =
-      options.num_points >= 0 ? options.num_points : default_points[static_cast<int>(options.kind)];
+
   if (!std::isfinite(options.frame_depth) || options.frame_depth < 0.0 ||
       !std::isfinite(options.wall_margin) || options.wall_margin < 0.0) {
     throw std::invalid_argument("MakeScene: frame_depth and wall_margin must be finite, >= 0");
@@ -356,7 +360,14 @@ Scene MakeScene(const SceneOptions& options, std::uint64_t seed) {
                                      Vector3d(std::max(m, 3.0), std::max(m, 1.5), 0.5));
       break;
   }
-  builder.ScatterPoints(num_points);
+  // Default densities give about 600 / 800 / 1500 points at the default sizes.
+  const double default_density[3] = {600.0 / 180.0, 800.0 / 325.44, 1.04};
+  const double num_points =
+      options.num_points >= 0
+          ? options.num_points
+          : std::round(default_density[static_cast<int>(options.kind)] * builder.TotalPatchArea());
+  if (num_points > 1e7) throw std::invalid_argument("MakeScene: more than 1e7 points");
+  builder.ScatterPoints(static_cast<int>(num_points));
   return scene;
 }
 
