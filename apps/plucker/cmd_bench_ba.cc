@@ -85,11 +85,12 @@ int RunBenchBa(const BenchBaArgs& args) {
     j["final_cost_relative_difference"] = cost_rel_diff;
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("bundle adjustment: %zu poses, %zu lines, %zu points, %d line + %d point residuals"
-                " (best of %d, one thread)\n",
-                problem.initial.T_w_c.size(), problem.initial.lines_w.size(),
-                problem.initial.points_w.size(), runs[0].result.num_line_residuals,
-                runs[0].result.num_point_residuals, args.repeats);
+    std::printf(
+        "bundle adjustment: %zu poses, %zu lines, %zu points, %d line + %d point residuals"
+        " (best of %d, one thread)\n",
+        problem.initial.T_w_c.size(), problem.initial.lines_w.size(),
+        problem.initial.points_w.size(), runs[0].result.num_line_residuals,
+        runs[0].result.num_point_residuals, args.repeats);
     std::printf("%-10s %10s %6s %14s %12s %12s\n", "factors", "time [s]", "iter", "final cost",
                 "rot [deg]", "trans [m]");
     for (int k = 0; k < 2; ++k) {
@@ -114,8 +115,9 @@ void RegisterBenchBundleAdjustment(CLI::App& bench, int* exit_code) {
   auto args = std::make_shared<BenchBaArgs>();
   CLI::App* cmd = bench.add_subcommand(
       "ba", "Bundle adjustment (>= 1000 lines, 50 poses): analytic vs autodiff factors");
-  cmd->add_option("--frames", args->frames, "Camera poses")->capture_default_str()->check(
-      CLI::Range(3, 1000));
+  cmd->add_option("--frames", args->frames, "Camera poses")
+      ->capture_default_str()
+      ->check(CLI::Range(3, 1000));
   cmd->add_option("--repeats", args->repeats, "Solves per variant (best time kept)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));

@@ -91,11 +91,12 @@ int RunCameraDemo(const DemoArgs& args, const std::filesystem::path& out) {
   const ba::SyntheticProblem problem = ba::MakeSyntheticProblem(options);
   const double sim_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("  simulated %zu frames, %zu points, %zu lines, %zu point + %zu line observations "
-              "(%.0f ms), pixel noise %.2f px\n",
-              problem.initial.T_w_c.size(), problem.initial.points_w.size(),
-              problem.initial.lines_w.size(), problem.initial.point_observations.size(),
-              problem.initial.line_observations.size(), sim_ms, args.pixel_noise);
+  std::printf(
+      "  simulated %zu frames, %zu points, %zu lines, %zu point + %zu line observations "
+      "(%.0f ms), pixel noise %.2f px\n",
+      problem.initial.T_w_c.size(), problem.initial.points_w.size(), problem.initial.lines_w.size(),
+      problem.initial.point_observations.size(), problem.initial.line_observations.size(), sim_ms,
+      args.pixel_noise);
 
   ba::BundleAdjustmentData state = problem.initial;
   ba::BundleAdjustmentOptions ba_options;
@@ -108,16 +109,16 @@ int RunCameraDemo(const DemoArgs& args, const std::filesystem::path& out) {
   }
   const ba::ProblemAccuracy before = ba::Evaluate(problem, problem.initial);
   const ba::ProblemAccuracy after = ba::Evaluate(problem, state);
-  std::printf("  errors against ground truth (poses RMS, structure median; first %d poses fixed as "
-              "gauge):\n",
-              ba_options.num_fixed_poses);
+  std::printf(
+      "  errors against ground truth (poses RMS, structure median; first %d poses fixed as "
+      "gauge):\n",
+      ba_options.num_fixed_poses);
   std::printf("  %-9s %10s %10s %12s %10s %12s\n", "", "rot [deg]", "trans [m]", "points [m]",
               "line [deg]", "line [m]");
   PrintAccuracyRow("before", before);
   PrintAccuracyRow("after", after);
   std::printf("  solve: %d iterations, %.3f s, cost %.4g -> %.4g (%s)\n", result.iterations,
-              result.solve_seconds, result.initial_cost, result.final_cost,
-              result.message.c_str());
+              result.solve_seconds, result.initial_cost, result.final_cost, result.message.c_str());
 
   const std::filesystem::path dir = out / "camera";
   std::filesystem::create_directories(dir / "simulation");
@@ -127,22 +128,22 @@ int RunCameraDemo(const DemoArgs& args, const std::filesystem::path& out) {
   io::WriteKittiPoses((dir / "poses_ba.txt").string(), state.T_w_c);
   io::WriteFileAtomically((dir / "points_ba.txt").string(), FormatStructure(state));
   io::WriteFileAtomically((dir / "lines_ba.txt").string(), FormatLines(state));
-  const nlohmann::json summary = {
-      {"frames", problem.initial.T_w_c.size()},
-      {"points", problem.initial.points_w.size()},
-      {"lines", problem.initial.lines_w.size()},
-      {"point_residuals", result.num_point_residuals},
-      {"line_residuals", result.num_line_residuals},
-      {"iterations", result.iterations},
-      {"solve_seconds", result.solve_seconds},
-      {"initial_cost", result.initial_cost},
-      {"final_cost", result.final_cost},
-      {"before", AccuracyJson(before)},
-      {"after", AccuracyJson(after)}};
+  const nlohmann::json summary = {{"frames", problem.initial.T_w_c.size()},
+                                  {"points", problem.initial.points_w.size()},
+                                  {"lines", problem.initial.lines_w.size()},
+                                  {"point_residuals", result.num_point_residuals},
+                                  {"line_residuals", result.num_line_residuals},
+                                  {"iterations", result.iterations},
+                                  {"solve_seconds", result.solve_seconds},
+                                  {"initial_cost", result.initial_cost},
+                                  {"final_cost", result.final_cost},
+                                  {"before", AccuracyJson(before)},
+                                  {"after", AccuracyJson(after)}};
   io::WriteFileAtomically((dir / "summary.json").string(), summary.dump(2) + "\n");
-  std::printf("  wrote %s/{poses_truth,poses_initial,poses_ba}.txt (KITTI format, T_w_c), "
-              "points_ba.txt, lines_ba.txt, summary.json, simulation/\n",
-              dir.string().c_str());
+  std::printf(
+      "  wrote %s/{poses_truth,poses_initial,poses_ba}.txt (KITTI format, T_w_c), "
+      "points_ba.txt, lines_ba.txt, summary.json, simulation/\n",
+      dir.string().c_str());
   return 0;
 }
 
@@ -176,8 +177,9 @@ void RegisterDemo(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "demo", "Simulate, solve and evaluate: point+line bundle adjustment and LiDAR odometry");
   cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "Camera frames")->capture_default_str()->check(
-      CLI::Range(3, 10000));
+  cmd->add_option("--frames", args->frames, "Camera frames")
+      ->capture_default_str()
+      ->check(CLI::Range(3, 10000));
   cmd->add_option("--seed", args->seed, "Random seed")->capture_default_str();
   cmd->add_option("--pixel-noise", args->pixel_noise, "Pixel noise sigma")
       ->capture_default_str()

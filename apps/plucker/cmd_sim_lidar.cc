@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "lidar_sim_options.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
@@ -78,15 +79,8 @@ int Run(const SimLidarArgs& args) {
   const sim::LidarScene scene = sim::MakeScene(args.scene, args.seed);
   const sim::VehicleTrajectory trajectory(scene.route);
 
-  sim::LidarSimOptions options;
-  options.elevation_rad = sensor.elevation_rad;
-  options.azimuth_steps = sensor.azimuth_steps;
-  options.rate_hz = sensor.rate_hz;
-  options.min_range = sensor.min_range;
-  options.max_range = sensor.max_range;
-  options.range_noise_sigma = args.noise;
-  options.distortion = args.distortion;
-  options.seed = args.seed;
+  const sim::LidarSimOptions options =
+      LidarSimOptionsFor(sensor, args.noise, args.distortion, args.seed);
   const sim::LidarSimulator simulator(scene, options);
 
   const fs::path out(args.out);

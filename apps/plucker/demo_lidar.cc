@@ -1,6 +1,7 @@
 // The LiDAR part of `plucker demo`: simulated 64-beam drive through the urban scene, LiDAR
 // odometry with the analytic edge/plane factors, evaluation against ground truth, plot.
 #include "demo_lidar.h"
+#include "lidar_sim_options.h"
 
 #include <algorithm>
 #include <chrono>
@@ -45,14 +46,8 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   const lidar::SensorModel sensor = lidar::HDL64();
   const sim::LidarScene scene = sim::MakeScene("urban", seed);
   const sim::VehicleTrajectory trajectory(scene.route);
-  sim::LidarSimOptions sim_options;
-  sim_options.elevation_rad = sensor.elevation_rad;
-  sim_options.azimuth_steps = sensor.azimuth_steps;
-  sim_options.rate_hz = sensor.rate_hz;
-  sim_options.min_range = sensor.min_range;
-  sim_options.max_range = sensor.max_range;
-  sim_options.range_noise_sigma = 0.02;
-  sim_options.seed = seed;
+  const sim::LidarSimOptions sim_options =
+      LidarSimOptionsFor(sensor, /*range_noise_sigma=*/0.02, /*distortion=*/false, seed);
   const sim::LidarSimulator simulator(scene, sim_options);
 
   lidar::LidarOdometry odometry;
@@ -91,9 +86,10 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   std::printf("  ATE (se3): RMSE %.3f m, max %.3f m; RPE per frame: median %.2f cm, %.4f deg\n",
               ate.translation_m.rmse, ate.translation_m.max, rpe.translation_m.median * 100,
               rpe.rotation_deg.median);
-  std::printf("  odometry time per frame (one thread): median %.1f ms, p95 %.1f ms "
-              "(simulation %.1f ms per frame, not included)\n",
-              Percentile(frame_ms, 0.5), Percentile(frame_ms, 0.95), Percentile(sim_ms_total, 0.5));
+  std::printf(
+      "  odometry time per frame (one thread): median %.1f ms, p95 %.1f ms "
+      "(simulation %.1f ms per frame, not included)\n",
+      Percentile(frame_ms, 0.5), Percentile(frame_ms, 0.95), Percentile(sim_ms_total, 0.5));
 
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -133,9 +129,10 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
     summary["kitti_rotation_deg_per_100m"] = *kitti.rotation_error_deg_per_100m;
   }
   io::WriteFileAtomically((dir / "summary.json").string(), summary.dump(2) + "\n");
-  std::printf("  wrote %s/{poses_truth,poses_estimate}.txt (KITTI format, LiDAR frame), "
-              "trajectory.svg, summary.json\n",
-              dir.string().c_str());
+  std::printf(
+      "  wrote %s/{poses_truth,poses_estimate}.txt (KITTI format, LiDAR frame), "
+      "trajectory.svg, summary.json\n",
+      dir.string().c_str());
   return 0;
 }
 

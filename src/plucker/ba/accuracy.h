@@ -5,8 +5,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "plucker/geometry/plucker_line.h"
 #include "plucker/eval/statistics.h"
+#include "plucker/geometry/plucker_line.h"
 #include "plucker/geometry/se3.h"
 
 namespace plucker {

@@ -106,10 +106,10 @@ BundleAdjustmentResult SolveBundleAdjustment(const BundleAdjustmentOptions& opti
     }
     std::unique_ptr<ceres::CostFunction> cost;
     try {
-      cost.reset(options.use_autodiff ? LineReprojectionFactor::CreateAutoDiff(
-                                            data->K, obs.s_px, obs.e_px, line_sqrt_info)
-                                      : LineReprojectionFactor::Create(data->K, obs.s_px,
-                                                                       obs.e_px, line_sqrt_info));
+      cost.reset(
+          options.use_autodiff
+              ? LineReprojectionFactor::CreateAutoDiff(data->K, obs.s_px, obs.e_px, line_sqrt_info)
+              : LineReprojectionFactor::Create(data->K, obs.s_px, obs.e_px, line_sqrt_info));
     } catch (const std::invalid_argument&) {
       ++result.skipped_line_observations;
       continue;

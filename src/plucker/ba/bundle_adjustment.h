@@ -43,8 +43,8 @@ struct BundleAdjustmentData {
 };
 
 struct BundleAdjustmentOptions {
-  bool use_autodiff = false;     // the autodiff twins instead of the analytic factors
-  double point_sigma_px = 1.0;   // measurement standard deviations (square-root information 1/sigma)
+  bool use_autodiff = false;    // the autodiff twins instead of the analytic factors
+  double point_sigma_px = 1.0;  // measurement standard deviations (square-root information 1/sigma)
   double line_sigma_px = 1.0;
   double huber_threshold = 0.0;  // robust loss scale in units of sigma; 0 = plain least squares
   int num_fixed_poses = 2;
@@ -59,17 +59,17 @@ struct BundleAdjustmentOptions {
 };
 
 struct BundleAdjustmentResult {
-  bool success = false;           // the solver returned a usable solution
-  std::string message;            // Ceres' termination message, or why it did not run
-  double initial_cost = 0.0;      // 0.5 * sum of squared weighted residuals
+  bool success = false;       // the solver returned a usable solution
+  std::string message;        // Ceres' termination message, or why it did not run
+  double initial_cost = 0.0;  // 0.5 * sum of squared weighted residuals
   double final_cost = 0.0;
   int iterations = 0;
-  double solve_seconds = 0.0;     // Ceres' total time
+  double solve_seconds = 0.0;  // Ceres' total time
   int num_point_residuals = 0;
   int num_line_residuals = 0;
   int skipped_point_observations = 0;  // invalid at the initial state or out of range
   int skipped_line_observations = 0;
-  int skipped_lines = 0;               // degenerate Plücker coordinates (not refined)
+  int skipped_lines = 0;  // degenerate Plücker coordinates (not refined)
 };
 
 // Refines `data` in place. Throws std::invalid_argument for invalid intrinsics or options.

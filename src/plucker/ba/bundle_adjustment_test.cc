@@ -82,10 +82,10 @@ TEST(BundleAdjustment, NoisyJointSolveIsStatisticallyConsistentAndAnalyticMatche
 TEST(BundleAdjustment, InvalidObservationsAreSkippedNotSolved) {
   SyntheticProblem p = MakeSyntheticProblem(SmallProblem(0.0, sim::SceneKind::kRoom));
   BundleAdjustmentData state = p.initial;
-  state.point_observations.push_back({0, 100000, {1, 1}});              // no such point
-  state.line_observations.push_back({999, 0, {1, 1}, {2, 2}});          // no such camera
-  state.line_observations.push_back({0, 0, {5, 5}, {5, 5}});            // zero-length segment
-  state.point_observations.push_back({0, 0, {std::nan(""), 1}});        // non-finite measurement
+  state.point_observations.push_back({0, 100000, {1, 1}});        // no such point
+  state.line_observations.push_back({999, 0, {1, 1}, {2, 2}});    // no such camera
+  state.line_observations.push_back({0, 0, {5, 5}, {5, 5}});      // zero-length segment
+  state.point_observations.push_back({0, 0, {std::nan(""), 1}});  // non-finite measurement
   const BundleAdjustmentResult r = SolveBundleAdjustment(BundleAdjustmentOptions{}, &state);
   EXPECT_TRUE(r.success);
   EXPECT_EQ(r.skipped_point_observations, 2);

@@ -85,7 +85,8 @@ SyntheticProblem MakeSyntheticProblem(const SyntheticProblemOptions& options) {
   }
   for (const auto& o : s.points) {
     const auto it = point_index.find(o.point_id);
-    if (it != point_index.end()) p.initial.point_observations.push_back({o.frame, it->second, o.uv});
+    if (it != point_index.end())
+      p.initial.point_observations.push_back({o.frame, it->second, o.uv});
   }
   for (const auto& o : s.segments) {
     const auto it = line_index.find(o.line_id);

@@ -25,13 +25,13 @@ struct SyntheticProblemOptions {
   // between two back-projected plane normals (lines) or two rays (points), true geometry.
   double min_line_parallax_deg = 5.0;
   double min_point_parallax_deg = 2.0;
-  int num_fixed_poses = 2;             // not perturbed (the gauge of the solve)
+  int num_fixed_poses = 2;  // not perturbed (the gauge of the solve)
   std::uint64_t seed = 7;
 };
 
 struct SyntheticProblem {
   sim::CameraSimulation simulation;
-  BundleAdjustmentData initial;              // perturbed state + inlier observations
+  BundleAdjustmentData initial;  // perturbed state + inlier observations
   std::vector<SE3d> T_w_c_truth;
   std::vector<Eigen::Vector3d> points_truth;  // same indexing as initial.points_w
   std::vector<SegmentTruth> segments_truth;   // same indexing as initial.lines_w

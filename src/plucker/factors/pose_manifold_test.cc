@@ -18,7 +18,8 @@ TEST(PoseManifold, InvariantsHoldOnRandomAndHardPoints) {
     double xp[7];
     x.ToParameters(xp);
     Vector6d delta;
-    delta << verify::RandomUnitVector(rng) * verify::Uniform(rng, 0, 1.0), verify::RandomVector(rng);
+    delta << verify::RandomUnitVector(rng) * verify::Uniform(rng, 0, 1.0),
+        verify::RandomVector(rng);
     if (i == 2) delta.setZero();
     SE3d y = verify::RandomPose(rng);
     double yp[7];

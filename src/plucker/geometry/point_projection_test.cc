@@ -1,4 +1,5 @@
 #include "plucker/geometry/point_projection.h"
+#include "plucker/geometry/geometry_test_utils.h"
 
 #include <gtest/gtest.h>
 
@@ -9,14 +10,8 @@
 namespace plucker {
 namespace {
 
-PinholeIntrinsics TestK() {
-  PinholeIntrinsics K;
-  K.fx = 500;
-  K.fy = 480;
-  K.cx = 320;
-  K.cy = 240;
-  return K;
-}
+using testing_utils::LookAt;
+using testing_utils::TestK;
 
 TEST(PointProjection, KnownValues) {
   const auto uv = ProjectCameraPoint(TestK(), Eigen::Vector3d(1, -2, 4));

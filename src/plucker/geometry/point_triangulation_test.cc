@@ -5,30 +5,14 @@
 #include <limits>
 #include <random>
 
+#include "plucker/geometry/geometry_test_utils.h"
 #include "plucker/geometry/point_projection.h"
 
 namespace plucker {
 namespace {
 
-PinholeIntrinsics TestK() {
-  PinholeIntrinsics K;
-  K.fx = 500;
-  K.fy = 480;
-  K.cx = 320;
-  K.cy = 240;
-  return K;
-}
-
-// Camera at centre c looking at target (z axis towards it), with a roll about the viewing axis.
-SE3d LookAt(const Eigen::Vector3d& c, const Eigen::Vector3d& target, double roll = 0.0) {
-  const Eigen::Vector3d z = (target - c).normalized();
-  const Eigen::Vector3d a =
-      std::abs(z.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d x = a.cross(z).normalized();
-  Eigen::Matrix3d R;
-  R << x, z.cross(x), z;
-  return SE3d(Eigen::Matrix3d(R * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ())), c);
-}
+using testing_utils::LookAt;
+using testing_utils::TestK;
 
 struct Scene {
   std::vector<SE3d> poses;

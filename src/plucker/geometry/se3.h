@@ -32,11 +32,17 @@ class SE3 {
     return SE3(Quaternion(p[3], p[0], p[1], p[2]), Vector(p[4], p[5], p[6]));
   }
   void ToParameters(T* p) const {
-    p[0] = q_.x(); p[1] = q_.y(); p[2] = q_.z(); p[3] = q_.w();
-    p[4] = t_.x(); p[5] = t_.y(); p[6] = t_.z();
+    p[0] = q_.x();
+    p[1] = q_.y();
+    p[2] = q_.z();
+    p[3] = q_.w();
+    p[4] = t_.x();
+    p[5] = t_.y();
+    p[6] = t_.z();
   }
   static SE3 FromMatrix(const Eigen::Matrix<T, 4, 4>& m) {
-    return SE3(Matrix3<T>(m.template topLeftCorner<3, 3>()), Vector(m.template topRightCorner<3, 1>()));
+    return SE3(Matrix3<T>(m.template topLeftCorner<3, 3>()),
+               Vector(m.template topRightCorner<3, 1>()));
   }
   // Exp of the (dtheta, dt) tangent from the identity: (Exp(dtheta), dt).
   static SE3 Retract(const Eigen::Matrix<T, 6, 1>& delta) {

@@ -10,7 +10,10 @@ namespace {
 TEST(SO3, ExpLogRoundTripIncludingNearZeroAndNearPi) {
   verify::Rng rng(7);
   for (int i = 0; i < 1000; ++i) {
-    const double angle = i == 0 ? 0.0 : i == 1 ? 1e-12 : i == 2 ? M_PI : verify::Uniform(rng, 0, M_PI);
+    const double angle = i == 0   ? 0.0
+                         : i == 1 ? 1e-12
+                         : i == 2 ? M_PI
+                                  : verify::Uniform(rng, 0, M_PI);
     const Eigen::Vector3d w = verify::RandomUnitVector(rng) * angle;
     const Eigen::Vector3d w2 = LogSO3<double>(ExpSO3<double>(w));
     if (angle > M_PI - 1e-9) {

@@ -41,7 +41,9 @@ void JacobianCheckStats::Add(const Eigen::MatrixXd& analytic, const Eigen::Matri
       std::ostringstream os;
       os << name << " sample " << samples << (what.empty() ? "" : " (" + what + ")")
          << ": err vs autodiff " << ea << ", vs numeric " << en << "\nanalytic:\n"
-         << analytic << "\nautodiff:\n" << autodiff << "\nnumeric:\n" << numeric;
+         << analytic << "\nautodiff:\n"
+         << autodiff << "\nnumeric:\n"
+         << numeric;
       first_failure = os.str();
     }
     ++failures;

@@ -25,8 +25,9 @@ double JacobianError(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& ref
 // Jacobian of f at x by forward-mode autodiff. F is a generic functor
 //   template <typename T> Eigen::Matrix<T, kOut, 1> operator()(const Eigen::Matrix<T, kIn, 1>&)
 template <int kIn, int kOut, typename F>
-Eigen::Matrix<double, kOut, kIn> AutoDiffJacobian(const F& f, const Eigen::Matrix<double, kIn, 1>& x,
-                                                 Eigen::Matrix<double, kOut, 1>* value = nullptr) {
+Eigen::Matrix<double, kOut, kIn> AutoDiffJacobian(const F& f,
+                                                  const Eigen::Matrix<double, kIn, 1>& x,
+                                                  Eigen::Matrix<double, kOut, 1>* value = nullptr) {
   using Jet = ceres::Jet<double, kIn>;
   Eigen::Matrix<Jet, kIn, 1> xj;
   for (int i = 0; i < kIn; ++i) xj(i) = Jet(x(i), i);
@@ -52,8 +53,8 @@ struct JacobianCheckStats {
   double worst_numeric = 0.0;   // worst err(analytic, central differences)
   double autodiff_tolerance = 1e-9;
   double numeric_tolerance = 1e-6;
-  int failures = 0;             // samples over either tolerance
-  std::string first_failure;    // description of the first failing sample
+  int failures = 0;           // samples over either tolerance
+  std::string first_failure;  // description of the first failing sample
   bool passed() const { return failures == 0 && samples > 0; }
 
   // Records one sample. `what` describes the configuration for the failure message.

@@ -281,24 +281,24 @@ std::vector<NamedJacobianCheck> LineFactorJacobianChecks() {
   const CreateFn vi = &LineReprojectionFactorVI::Create;
   const CreateFn vi_ad = &LineReprojectionFactorVI::CreateAutoDiff;
   return {
-      {"factors.LineReprojectionFactor.ambient",
+      {"factor.line.Reprojection.ambient",
        [=](const JacobianCheckOptions& o) {
-         return CheckFactor(o, "factors.LineReprojectionFactor.ambient", 200, MonoSample, mono,
-                            mono_ad, false);
-       }},
-      {"factors.LineReprojectionFactor.tangent",
-       [=](const JacobianCheckOptions& o) {
-         return CheckFactor(o, "factors.LineReprojectionFactor.tangent", 201, MonoSample, mono,
-                            mono_ad, true);
-       }},
-      {"factors.LineReprojectionFactorVI.ambient",
-       [=](const JacobianCheckOptions& o) {
-         return CheckFactor(o, "factors.LineReprojectionFactorVI.ambient", 202, VISample, vi, vi_ad,
+         return CheckFactor(o, "factor.line.Reprojection.ambient", 200, MonoSample, mono, mono_ad,
                             false);
        }},
-      {"factors.LineReprojectionFactorVI.tangent",
+      {"factor.line.Reprojection.tangent",
        [=](const JacobianCheckOptions& o) {
-         return CheckFactor(o, "factors.LineReprojectionFactorVI.tangent", 203, VISample, vi, vi_ad,
+         return CheckFactor(o, "factor.line.Reprojection.tangent", 201, MonoSample, mono, mono_ad,
+                            true);
+       }},
+      {"factor.line.ReprojectionVI.ambient",
+       [=](const JacobianCheckOptions& o) {
+         return CheckFactor(o, "factor.line.ReprojectionVI.ambient", 202, VISample, vi, vi_ad,
+                            false);
+       }},
+      {"factor.line.ReprojectionVI.tangent",
+       [=](const JacobianCheckOptions& o) {
+         return CheckFactor(o, "factor.line.ReprojectionVI.tangent", 203, VISample, vi, vi_ad,
                             true);
        }},
   };

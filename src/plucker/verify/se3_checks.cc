@@ -16,11 +16,16 @@ using Vector12 = Eigen::Matrix<double, 12, 1>;
 // Random poses plus curated hard cases: identity, rotations near pi, tiny rotations.
 SE3d SamplePose(Rng& rng, int i) {
   switch (i) {
-    case 0: return SE3d();
-    case 1: return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng));
-    case 2: return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng));
-    case 3: return SE3d(ExpSO3<double>(RandomUnitVector(rng) * 1e-9), RandomVector(rng));
-    default: return RandomPose(rng);
+    case 0:
+      return SE3d();
+    case 1:
+      return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng));
+    case 2:
+      return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng));
+    case 3:
+      return SE3d(ExpSO3<double>(RandomUnitVector(rng) * 1e-9), RandomVector(rng));
+    default:
+      return RandomPose(rng);
   }
 }
 
@@ -66,9 +71,9 @@ JacobianCheckStats CheckInverse(const JacobianCheckOptions& o) {
       return Eigen::Matrix<T, 6, 1>(a.cast<T>().Plus(d).Inverse().Minus(inv.cast<T>()));
     };
     const Matrix6d Jad = AutoDiffJacobian<6, 6>(twin, Vector6::Zero());
-    const Eigen::MatrixXd Jnum = NumericJacobian(
-        [&](const Eigen::VectorXd& d) { return Tangent(a.Plus(d).Inverse(), inv); },
-        Eigen::VectorXd::Zero(6));
+    const Eigen::MatrixXd Jnum =
+        NumericJacobian([&](const Eigen::VectorXd& d) { return Tangent(a.Plus(d).Inverse(), inv); },
+                        Eigen::VectorXd::Zero(6));
     s.Add(J, Jad, Jnum);
   }
   return s;
