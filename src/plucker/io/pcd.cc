@@ -11,6 +11,7 @@
 #include <limits>
 #include <sstream>
 
+#include "plucker/io/binary_scalar.h"
 #include "plucker/io/kitti_lidar.h"
 
 namespace plucker {
@@ -45,29 +46,6 @@ bool ParseNumber(const char* begin, std::size_t len, double* v) {
   char* end = nullptr;
   *v = std::strtod(buf, &end);
   return end == buf + len;
-}
-
-// Reads one little-endian scalar of the given PCD size/type as a double.
-double LoadScalar(const unsigned char* p, int size, char type) {
-  std::uint64_t u = 0;
-  for (int i = 0; i < size; ++i) u |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-  if (type == 'F') {
-    if (size == 4) {
-      const std::uint32_t u32 = static_cast<std::uint32_t>(u);
-      float f;
-      std::memcpy(&f, &u32, 4);
-      return f;
-    }
-    double d;
-    std::memcpy(&d, &u, 8);
-    return d;
-  }
-  if (type == 'U') return static_cast<double>(u);
-  // Signed: sign-extend.
-  if (size < 8 && (u >> (8 * size - 1)) & 1u) u |= ~std::uint64_t{0} << (8 * size);
-  std::int64_t s;
-  std::memcpy(&s, &u, 8);
-  return static_cast<double>(s);
 }
 
 void StoreLE(std::uint64_t u, int size, std::string* out) {
@@ -314,8 +292,9 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
     }
   } else if (h.encoding == PcdEncoding::kBinaryCompressed) {
     if (data_size < 8) throw IoError(name, "truncated binary_compressed data (no size words)");
-    const std::uint32_t csize = static_cast<std::uint32_t>(LoadScalar(data, 4, 'U'));
-    const std::uint32_t usize = static_cast<std::uint32_t>(LoadScalar(data + 4, 4, 'U'));
+    const std::uint32_t csize = static_cast<std::uint32_t>(LoadLittleEndianScalar(data, 4, 'U'));
+    const std::uint32_t usize =
+        static_cast<std::uint32_t>(LoadLittleEndianScalar(data + 4, 4, 'U'));
     if (n > std::numeric_limits<std::size_t>::max() / point_bytes || usize != n * point_bytes) {
       throw IoError(name, "binary_compressed: uncompressed size " + std::to_string(usize) +
                               " != POINTS * point size " + std::to_string(n * point_bytes));
@@ -369,13 +348,13 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
       case PcdEncoding::kAscii:
         return values[i * values_per_point + value_index[f]];
       case PcdEncoding::kBinary:
-        return LoadScalar(data + i * point_bytes + offset[f], fd.size, fd.type);
+        return LoadLittleEndianScalar(data + i * point_bytes + offset[f], fd.size, fd.type);
       case PcdEncoding::kBinaryCompressed:
       default: {
         // Field-major: all elements of field 0 for every point, then field 1, ...
         const std::size_t base = offset[f] * n;
         const std::size_t elem = static_cast<std::size_t>(fd.size) * fd.count;
-        return LoadScalar(
+        return LoadLittleEndianScalar(
             reinterpret_cast<const unsigned char*>(decompressed.data()) + base + i * elem, fd.size,
             fd.type);
       }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "plucker/io/binary_scalar.h"
 #include "plucker/io/kitti_lidar.h"
 
 namespace plucker {
@@ -36,27 +37,6 @@ bool PlyType(const std::string& t, PlyProperty* p) {
     }
   }
   return false;
-}
-
-double Load(const unsigned char* p, int size, char type) {
-  std::uint64_t u = 0;
-  for (int i = 0; i < size; ++i) u |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-  if (type == 'F') {
-    if (size == 4) {
-      const std::uint32_t u32 = static_cast<std::uint32_t>(u);
-      float f;
-      std::memcpy(&f, &u32, 4);
-      return f;
-    }
-    double d;
-    std::memcpy(&d, &u, 8);
-    return d;
-  }
-  if (type == 'U') return static_cast<double>(u);
-  if (size < 8 && (u >> (8 * size - 1)) & 1u) u |= ~std::uint64_t{0} << (8 * size);
-  std::int64_t s;
-  std::memcpy(&s, &u, 8);
-  return static_cast<double>(s);
 }
 
 void StoreFloat(float f, std::string* out) {
@@ -235,7 +215,7 @@ LidarScan ParsePly(const std::string& bytes, const std::string& name, ScanReadSt
     } else {
       const unsigned char* r = reinterpret_cast<const unsigned char*>(data) + i * record;
       for (std::size_t k = 0; k < props.size(); ++k) {
-        row[k] = Load(r + offsets[k], props[k].size, props[k].type);
+        row[k] = LoadLittleEndianScalar(r + offsets[k], props[k].size, props[k].type);
       }
     }
     const Eigen::Vector3d p(row[ix], row[iy], row[iz]);

@@ -20,22 +20,6 @@ namespace {
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
-// Poses: identity, rotations at and near pi, tiny rotations, then random.
-SE3d SamplePose(Rng& rng, int i) {
-  switch (i) {
-    case 0:
-      return SE3d();
-    case 1:
-      return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng));
-    case 2:
-      return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng));
-    case 3:
-      return SE3d(ExpSO3<double>(RandomUnitVector(rng) * 1e-9), RandomVector(rng));
-    default:
-      return RandomPose(rng);
-  }
-}
-
 // Lines: through the origin, u1 parallel to z (n = (0,0,1), d = (1,0,0)), far away, random.
 Line6d SampleLine(Rng& rng, int i) {
   switch (i) {

@@ -39,5 +39,22 @@ inline Eigen::Quaterniond RotationNearPi(Rng& rng, double eps = 1e-6) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(angle, RandomUnitVector(rng)));
 }
 
+// Sample i of a pose sequence: the curated hard cases first (identity, a rotation of exactly pi,
+// one within 1e-7 of pi, a 1e-9 rad rotation), then uniformly random poses.
+inline SE3d SamplePose(Rng& rng, int i) {
+  switch (i) {
+    case 0:
+      return SE3d();
+    case 1:
+      return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng));
+    case 2:
+      return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng));
+    case 3:
+      return SE3d(ExpSO3<double>(RandomUnitVector(rng) * 1e-9), RandomVector(rng));
+    default:
+      return RandomPose(rng);
+  }
+}
+
 }  // namespace verify
 }  // namespace plucker

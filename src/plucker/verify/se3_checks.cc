@@ -13,22 +13,6 @@ namespace {
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 
-// Random poses plus curated hard cases: identity, rotations near pi, tiny rotations.
-SE3d SamplePose(Rng& rng, int i) {
-  switch (i) {
-    case 0:
-      return SE3d();
-    case 1:
-      return SE3d(RotationNearPi(rng, 0.0), RandomVector(rng));
-    case 2:
-      return SE3d(RotationNearPi(rng, 1e-7), RandomVector(rng));
-    case 3:
-      return SE3d(ExpSO3<double>(RandomUnitVector(rng) * 1e-9), RandomVector(rng));
-    default:
-      return RandomPose(rng);
-  }
-}
-
 Eigen::VectorXd Tangent(const SE3d& x, const SE3d& base) { return x.Minus(base); }
 
 JacobianCheckStats CheckCompose(const JacobianCheckOptions& o) {
