@@ -43,6 +43,11 @@ expect lidar 0 "" -- "$PLUCKER" lidar --data "$T/sim" --out "$T/est.txt" --json 
   --quiet
 expect lidar-output-rows 0 "^12$" -- bash -c "wc -l < '$T/est.txt'"
 expect eval-rpe 0 "" -- "$PLUCKER" eval rpe --gt "$T/sim/poses.txt" --est "$T/est.txt"
+expect lidar-threads 0 "" -- "$PLUCKER" lidar --data "$T/sim" --out "$T/est2.txt" --threads 2 --quiet
+expect lidar-threads-same-poses 0 "" -- cmp "$T/est.txt" "$T/est2.txt"
+expect bench-lidar 0 "speed-up 2 vs 1 threads" -- \
+  "$PLUCKER" bench lidar --data "$T/sim" --frames 4 --repeats 1 --threads 1 2
+expect bench-lidar-missing-folder nonzero "$T/nothing" -- "$PLUCKER" bench lidar --data "$T/nothing"
 expect eval-ate-plot 0 "" -- "$PLUCKER" eval ate --gt "$T/sim/poses.txt" --est "$T/est.txt" \
   --align se3 --plot "$T/ate.svg"
 expect eval-plot-written 0 "<svg" -- head -c 400 "$T/ate.svg"

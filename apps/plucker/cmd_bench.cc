@@ -15,11 +15,8 @@
 namespace plucker {
 namespace app {
 
-// Hook for `plucker bench ba` (the lead implements it in cmd_bench_ba.cc). The weak empty
-// definition below keeps the build green until that file exists; a strong definition replaces it
-// at link time.
-void RegisterBenchBundleAdjustment(CLI::App& bench, int* exit_code);
-__attribute__((weak)) void RegisterBenchBundleAdjustment(CLI::App&, int*) {}
+void RegisterBenchBundleAdjustment(CLI::App& bench, int* exit_code);  // cmd_bench_ba.cc
+void RegisterBenchLidar(CLI::App& bench, int* exit_code);             // cmd_bench_lidar.cc
 
 namespace {
 
@@ -104,6 +101,7 @@ void RegisterBench(CLI::App& app, int* exit_code) {
   bench->require_subcommand(1);
   RegisterBenchFactors(*bench, exit_code);
   RegisterBenchBundleAdjustment(*bench, exit_code);
+  RegisterBenchLidar(*bench, exit_code);
 }
 
 }  // namespace app

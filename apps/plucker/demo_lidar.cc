@@ -15,6 +15,7 @@
 #include "plucker/eval/kitti_metric.h"
 #include "plucker/eval/plot.h"
 #include "plucker/eval/rpe.h"
+#include "plucker/eval/statistics.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/lidar/odometry.h"
@@ -25,13 +26,6 @@ namespace plucker {
 namespace app {
 
 namespace {
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const std::size_t k = static_cast<std::size_t>(q * (v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
 
 std::string Fixed(double v, int digits) {
   char buf[64];
@@ -89,7 +83,8 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   std::printf(
       "  odometry time per frame (one thread): median %.1f ms, p95 %.1f ms "
       "(simulation %.1f ms per frame, not included)\n",
-      Percentile(frame_ms, 0.5), Percentile(frame_ms, 0.95), Percentile(sim_ms_total, 0.5));
+      eval::Percentile(frame_ms, 0.5), eval::Percentile(frame_ms, 0.95),
+      eval::Percentile(sim_ms_total, 0.5));
 
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -120,8 +115,8 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
                             {"ate_rmse_m", ate.translation_m.rmse},
                             {"rpe_median_m", rpe.translation_m.median},
                             {"rpe_median_deg", rpe.rotation_deg.median},
-                            {"median_ms_per_frame", Percentile(frame_ms, 0.5)},
-                            {"p95_ms_per_frame", Percentile(frame_ms, 0.95)},
+                            {"median_ms_per_frame", eval::Percentile(frame_ms, 0.5)},
+                            {"p95_ms_per_frame", eval::Percentile(frame_ms, 0.95)},
                             {"degenerate_frames", degenerate},
                             {"unregistered_frames", failed}};
   if (kitti.has_segments()) {

@@ -84,6 +84,15 @@ TEST(Statistics, HandComputed) {
   EXPECT_EQ(ComputeStatistics({}).count, 0);
 }
 
+TEST(Statistics, PercentileInterpolates) {
+  EXPECT_DOUBLE_EQ(Percentile({3.0, 1.0, 4.0, 2.0}, 0.5), 2.5);
+  EXPECT_DOUBLE_EQ(Percentile({3.0, 1.0, 4.0, 2.0}, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(Percentile({3.0, 1.0, 4.0, 2.0}, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(Percentile({0.0, 10.0}, 0.95), 9.5);
+  EXPECT_DOUBLE_EQ(Percentile({7.0}, 0.95), 7.0);
+  EXPECT_DOUBLE_EQ(Percentile({}, 0.5), 0.0);
+}
+
 TEST(RotationAngle, StableAndSignFree) {
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.25, Eigen::Vector3d::UnitZ()));
   EXPECT_NEAR(RotationAngle(q), 0.25, 1e-15);

@@ -18,6 +18,9 @@ struct ErrorStatistics {
 
 ErrorStatistics ComputeStatistics(const std::vector<double>& errors);
 
+// The q-quantile (0 <= q <= 1) with linear interpolation between order statistics; 0 when empty.
+double Percentile(std::vector<double> values, double q);
+
 // Cumulative path length along a sequence of positions: out[0] = 0,
 // out[i] = out[i-1] + |p_i - p_{i-1}|.
 template <typename Vector>

@@ -1,11 +1,14 @@
 #include "plucker/lidar/features.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tsl/robin_set.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
+#include "plucker/lidar/fast_atan2.h"
 #include "plucker/lidar/voxel_key.h"
 
 namespace plucker {
@@ -26,13 +29,13 @@ struct Ring {
 class AzimuthClock {
  public:
   AzimuthClock(const Ring& ring, double period) : period_(period), n_(ring.p.size()) {
-    start_ = std::atan2(ring.p[0].y(), ring.p[0].x());
+    start_ = FastAtan2(ring.p[0].y(), ring.p[0].x());
     const std::size_t quarter = std::max<std::size_t>(1, n_ / 4);
-    const double a = std::atan2(ring.p[quarter].y(), ring.p[quarter].x());
+    const double a = FastAtan2(ring.p[quarter].y(), ring.p[quarter].x());
     direction_ = Wrap(a - start_) >= 0.0 ? 1.0 : -1.0;
   }
   double operator()(const Eigen::Vector3d& p, std::size_t index) const {
-    double swept = Wrap(direction_ * (std::atan2(p.y(), p.x()) - start_));
+    double swept = Wrap(direction_ * (FastAtan2(p.y(), p.x()) - start_));
     if (swept < 0.0) swept += 2.0 * M_PI;
     // Near the end of the ring a sweep slightly past 2 pi wraps to ~0: use the index to tell.
     if (index > n_ / 2 && swept < 0.5 * M_PI) swept = 2.0 * M_PI;
@@ -47,6 +50,139 @@ class AzimuthClock {
   double start_ = 0.0;
   double direction_ = 1.0;
 };
+
+// The features of one ring (its valid points in firing order).
+struct RingFeatures {
+  std::vector<Eigen::Vector3d> sharp, flat, edges, planes;
+  std::vector<double> edge_times, plane_times;
+  int occluded_rejected = 0, parallel_rejected = 0;
+  bool used = false;  // enough points for the curvature window and the sectors
+};
+
+void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOptions& o,
+                        RingFeatures* out) {
+  const int k = std::max(1, o.curvature_half_window);
+  const int n = static_cast<int>(ring.p.size());
+  if (n < 2 * k + 1 + o.sectors) return;
+  out->used = true;
+  const bool has_time = !scan.time.empty();
+  const bool times = o.compute_times;
+  const double supp_sq = o.suppression_distance * o.suppression_distance;
+  const double thin_sq = 0.25 * o.plane_voxel_size * o.plane_voxel_size;
+  const AzimuthClock clock(ring, o.scan_period);
+  auto time_of = [&](int i) {
+    return has_time ? scan.time[ring.source[i]] : clock(ring.p[i], static_cast<std::size_t>(i));
+  };
+
+  // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
+  std::vector<Eigen::Vector3d> prefix(n + 1, Eigen::Vector3d::Zero());
+  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
+  std::vector<double> curvature(n, 0.0);
+  for (int i = k; i < n - k; ++i) {
+    const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * ring.p[i];
+    curvature[i] = diff.squaredNorm();
+  }
+
+  // Unreliable points (LOAM): occlusion boundaries and surfaces parallel to the beam.
+  std::vector<char> picked(n, 0), label(n, 0);
+  for (int i = k; i < n - k - 1; ++i) {
+    const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
+    const double jump = std::abs(d1 - d2) / std::min(d1, d2);
+    if (jump > o.occlusion_depth_jump) {
+      const double gap = (ring.p[i + 1] / d2 - ring.p[i] / d1).norm();  // angle, radians
+      if (gap < o.occlusion_max_gap / std::min(d1, d2)) {
+        if (d1 > d2) {  // i is on the farther surface: i-k+1..i may be occluded
+          for (int l = 0; l < k; ++l) {
+            if (!picked[i - l]) ++out->occluded_rejected;
+            picked[i - l] = 2;
+          }
+        } else {
+          for (int l = 1; l <= k; ++l) {
+            if (!picked[i + l]) ++out->occluded_rejected;
+            picked[i + l] = 2;
+          }
+        }
+      }
+    }
+    const double prev_sq = (ring.p[i] - ring.p[i - 1]).squaredNorm();
+    const double next_sq = (ring.p[i + 1] - ring.p[i]).squaredNorm();
+    const double bound = o.parallel_beam_ratio * d1 * d1;
+    if (prev_sq > bound && next_sq > bound && !picked[i]) {
+      picked[i] = 2;
+      ++out->parallel_rejected;
+    }
+  }
+
+  auto suppress = [&](int i) {
+    for (int l = 1; l <= k && i + l < n; ++l) {
+      if ((ring.p[i + l] - ring.p[i + l - 1]).squaredNorm() > supp_sq) break;
+      if (!picked[i + l]) picked[i + l] = 1;
+    }
+    for (int l = 1; l <= k && i - l >= 0; ++l) {
+      if ((ring.p[i - l] - ring.p[i - l + 1]).squaredNorm() > supp_sq) break;
+      if (!picked[i - l]) picked[i - l] = 1;
+    }
+  };
+
+  std::vector<int> order;
+  const int usable = n - 2 * k;
+  for (int s = 0; s < o.sectors; ++s) {
+    const int begin = k + usable * s / o.sectors;
+    const int end = k + usable * (s + 1) / o.sectors;  // exclusive
+    if (end <= begin) continue;
+    // Edge candidates (curvature above the threshold, usually few), strongest first.
+    order.clear();
+    for (int i = begin; i < end; ++i)
+      if (curvature[i] > o.edge_threshold && !picked[i]) order.push_back(i);
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return curvature[a] > curvature[b]; });
+    int count = 0;
+    for (const int i : order) {
+      if (picked[i]) continue;
+      ++count;
+      if (count > o.max_edges_per_sector) break;
+      if (count <= o.max_sharp_per_sector) {
+        out->sharp.push_back(ring.p[i]);
+        label[i] = 2;
+      } else {
+        label[i] = 1;
+      }
+      out->edges.push_back(ring.p[i]);
+      if (times) out->edge_times.push_back(time_of(i));
+      picked[i] = 1;
+      suppress(i);
+    }
+
+    // Flat: the smallest curvatures, by repeated selection (max_flat_per_sector is small).
+    for (count = 0; count < o.max_flat_per_sector; ++count) {
+      int best = -1;
+      for (int i = begin; i < end; ++i) {
+        if (picked[i] || curvature[i] >= o.plane_threshold) continue;
+        if (best < 0 || curvature[i] < curvature[best]) best = i;
+      }
+      if (best < 0) break;
+      label[best] = -1;
+      out->flat.push_back(ring.p[best]);
+      picked[best] = 1;
+      suppress(best);
+    }
+
+    // Less flat: every non-edge point that was not rejected, thinned along the ring first.
+    Eigen::Vector3d last(1e30, 1e30, 1e30);
+    for (int i = begin; i < end; ++i) {
+      if (label[i] > 0 || picked[i] == 2) continue;
+      if (label[i] == 0 && (ring.p[i] - last).squaredNorm() < thin_sq) continue;
+      last = ring.p[i];
+      out->planes.push_back(ring.p[i]);
+      if (times) out->plane_times.push_back(time_of(i));
+    }
+  }
+}
+
+template <typename T>
+void Append(const std::vector<T>& from, std::vector<T>* to) {
+  to->insert(to->end(), from.begin(), from.end());
+}
 
 }  // namespace
 
@@ -82,7 +218,6 @@ bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeature
     *error = "time channel size differs from the point count";
     return false;
   }
-  const int k = std::max(1, o.curvature_half_window);
 
   // Split into rings, keeping firing order; range gating and NaN removal.
   int num_rings = 0;
@@ -119,127 +254,31 @@ bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeature
 
   const bool times = o.compute_times;
   stats.times_from_azimuth = times && !has_time;
+  // Rings are independent: in parallel when asked, then concatenated in ring order (the same
+  // result as one thread).
+  std::vector<RingFeatures> per_ring(num_rings);
+  if (o.num_threads > 1) {
+    tbb::task_arena arena(o.num_threads);
+    arena.execute([&] {
+      tbb::parallel_for(0, num_rings,
+                        [&](int r) { SelectRingFeatures(rings[r], scan, o, &per_ring[r]); });
+    });
+  } else {
+    for (int r = 0; r < num_rings; ++r) SelectRingFeatures(rings[r], scan, o, &per_ring[r]);
+  }
   std::vector<Eigen::Vector3d> edges, planes;
   std::vector<double> edge_times, plane_times;
-  std::vector<double> curvature;
-  std::vector<int> order;
-  std::vector<char> picked, label;
-  std::vector<Eigen::Vector3d> prefix;
-  const double supp_sq = o.suppression_distance * o.suppression_distance;
-  const double thin_sq = 0.25 * o.plane_voxel_size * o.plane_voxel_size;
-
-  for (const Ring& ring : rings) {
-    const int n = static_cast<int>(ring.p.size());
-    if (n < 2 * k + 1 + o.sectors) continue;
+  for (const RingFeatures& f : per_ring) {
+    if (!f.used) continue;
     ++stats.rings;
-    const AzimuthClock clock(ring, o.scan_period);
-    auto time_of = [&](int i) {
-      return has_time ? scan.time[ring.source[i]] : clock(ring.p[i], static_cast<std::size_t>(i));
-    };
-
-    // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
-    prefix.assign(n + 1, Eigen::Vector3d::Zero());
-    for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
-    curvature.assign(n, 0.0);
-    for (int i = k; i < n - k; ++i) {
-      const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * ring.p[i];
-      curvature[i] = diff.squaredNorm();
-    }
-
-    // Unreliable points (LOAM): occlusion boundaries and surfaces parallel to the beam.
-    picked.assign(n, 0);
-    label.assign(n, 0);
-    for (int i = k; i < n - k - 1; ++i) {
-      const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
-      const double jump = std::abs(d1 - d2) / std::min(d1, d2);
-      if (jump > o.occlusion_depth_jump) {
-        const double gap = (ring.p[i + 1] / d2 - ring.p[i] / d1).norm();  // angle, radians
-        if (gap < o.occlusion_max_gap / std::min(d1, d2)) {
-          if (d1 > d2) {  // i is on the farther surface: i-k+1..i may be occluded
-            for (int l = 0; l < k; ++l) {
-              if (!picked[i - l]) ++stats.occluded_rejected;
-              picked[i - l] = 2;
-            }
-          } else {
-            for (int l = 1; l <= k; ++l) {
-              if (!picked[i + l]) ++stats.occluded_rejected;
-              picked[i + l] = 2;
-            }
-          }
-        }
-      }
-      const double prev_sq = (ring.p[i] - ring.p[i - 1]).squaredNorm();
-      const double next_sq = (ring.p[i + 1] - ring.p[i]).squaredNorm();
-      const double bound = o.parallel_beam_ratio * d1 * d1;
-      if (prev_sq > bound && next_sq > bound && !picked[i]) {
-        picked[i] = 2;
-        ++stats.parallel_rejected;
-      }
-    }
-
-    auto suppress = [&](int i) {
-      for (int l = 1; l <= k && i + l < n; ++l) {
-        if ((ring.p[i + l] - ring.p[i + l - 1]).squaredNorm() > supp_sq) break;
-        if (!picked[i + l]) picked[i + l] = 1;
-      }
-      for (int l = 1; l <= k && i - l >= 0; ++l) {
-        if ((ring.p[i - l] - ring.p[i - l + 1]).squaredNorm() > supp_sq) break;
-        if (!picked[i - l]) picked[i - l] = 1;
-      }
-    };
-
-    const int usable = n - 2 * k;
-    for (int s = 0; s < o.sectors; ++s) {
-      const int begin = k + usable * s / o.sectors;
-      const int end = k + usable * (s + 1) / o.sectors;  // exclusive
-      if (end <= begin) continue;
-      // Edge candidates (curvature above the threshold, usually few), strongest first.
-      order.clear();
-      for (int i = begin; i < end; ++i)
-        if (curvature[i] > o.edge_threshold && !picked[i]) order.push_back(i);
-      std::sort(order.begin(), order.end(),
-                [&](int a, int b) { return curvature[a] > curvature[b]; });
-      int count = 0;
-      for (const int i : order) {
-        if (picked[i]) continue;
-        ++count;
-        if (count > o.max_edges_per_sector) break;
-        if (count <= o.max_sharp_per_sector) {
-          features->sharp.push_back(ring.p[i]);
-          label[i] = 2;
-        } else {
-          label[i] = 1;
-        }
-        edges.push_back(ring.p[i]);
-        if (times) edge_times.push_back(time_of(i));
-        picked[i] = 1;
-        suppress(i);
-      }
-
-      // Flat: the smallest curvatures, by repeated selection (max_flat_per_sector is small).
-      for (count = 0; count < o.max_flat_per_sector; ++count) {
-        int best = -1;
-        for (int i = begin; i < end; ++i) {
-          if (picked[i] || curvature[i] >= o.plane_threshold) continue;
-          if (best < 0 || curvature[i] < curvature[best]) best = i;
-        }
-        if (best < 0) break;
-        label[best] = -1;
-        features->flat.push_back(ring.p[best]);
-        picked[best] = 1;
-        suppress(best);
-      }
-
-      // Less flat: every non-edge point that was not rejected, thinned along the ring first.
-      Eigen::Vector3d last(1e30, 1e30, 1e30);
-      for (int i = begin; i < end; ++i) {
-        if (label[i] > 0 || picked[i] == 2) continue;
-        if (label[i] == 0 && (ring.p[i] - last).squaredNorm() < thin_sq) continue;
-        last = ring.p[i];
-        planes.push_back(ring.p[i]);
-        if (times) plane_times.push_back(time_of(i));
-      }
-    }
+    stats.occluded_rejected += f.occluded_rejected;
+    stats.parallel_rejected += f.parallel_rejected;
+    Append(f.sharp, &features->sharp);
+    Append(f.flat, &features->flat);
+    Append(f.edges, &edges);
+    Append(f.planes, &planes);
+    Append(f.edge_times, &edge_times);
+    Append(f.plane_times, &plane_times);
   }
   if (stats.rings == 0) {
     *error = "no ring has enough valid points (" + std::to_string(stats.valid_points) +

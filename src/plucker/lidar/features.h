@@ -47,6 +47,7 @@ struct FeatureOptions {
   double plane_voxel_size = 0.4;        // m; downsampling of `planes` (0 = off)
   double scan_period = 0.1;             // s; one revolution (for time from azimuth)
   bool compute_times = false;           // fill the *_times vectors (needed by deskew)
+  int num_threads = 1;                  // > 1: rings processed in parallel (same result)
 };
 
 struct FeatureStats {

@@ -1,6 +1,6 @@
 #include "plucker/lidar/odometry.h"
 
-#include <ceres/ceres.h>
+#include <ceres/loss_function.h>
 
 #include <Eigen/Eigenvalues>
 #include <chrono>
@@ -8,9 +8,12 @@
 #include <optional>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "plucker/factors/lidar_factors.h"
-#include "plucker/factors/pose_manifold.h"
 #include "plucker/lidar/deskew.h"
+#include "plucker/lidar/pose_solver.h"
 #include "plucker/lidar/sensor_model.h"
 
 namespace plucker {
@@ -101,12 +104,51 @@ RingSource ParseRingSource(const std::string& name) {
 
 class LidarOdometry::Impl {
  public:
-  PoseManifold manifold;
+  explicit Impl(int num_threads) : num_threads(std::max(1, num_threads)) {
+    if (this->num_threads > 1) arena = std::make_unique<tbb::task_arena>(this->num_threads);
+  }
+
+  // Stage clock: CPU time of this thread when single-threaded (robust to a loaded machine),
+  // wall-clock otherwise (the work is spread over threads).
+  double Now() const {
+    if (num_threads == 1) return ThreadCpuMs();
+    return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
+  }
+
+  // matches = the successful match(point) over `points`, in point order; in parallel chunks when
+  // num_threads > 1 (the same result either way).
+  template <typename Match, typename MatchFn>
+  void FindMatches(const std::vector<Eigen::Vector3d>& points, const MatchFn& match_fn,
+                   std::vector<Match>* matches) {
+    matches->clear();
+    if (!arena) {
+      Match m;
+      for (const Eigen::Vector3d& p : points)
+        if (match_fn(p, &neighbours, &m)) matches->push_back(m);
+      return;
+    }
+    constexpr std::size_t kChunk = 256;
+    const std::size_t chunks = (points.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<Match>> parts(chunks);
+    arena->execute([&] {
+      tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+        std::vector<Eigen::Vector3d> nb;
+        Match m;
+        for (std::size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i)
+          if (match_fn(points[i], &nb, &m)) parts[c].push_back(m);
+      });
+    });
+    for (const auto& part : parts) matches->insert(matches->end(), part.begin(), part.end());
+  }
+
+  int num_threads;
+  std::unique_ptr<tbb::task_arena> arena;
   std::unique_ptr<ceres::LossFunction> loss;
   std::optional<SensorModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<PlaneMatch> planes;
   std::vector<EdgeMatch> edges;
+  std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
   int frames_since_cleanup = 0;
 };
 
@@ -114,7 +156,7 @@ LidarOdometry::LidarOdometry(const LidarOdometryOptions& options)
     : options_(options),
       edge_map_(options.edge_map),
       plane_map_(options.plane_map),
-      impl_(std::make_unique<Impl>()) {
+      impl_(std::make_unique<Impl>(options.num_threads)) {
   switch (options_.loss) {
     case RobustLoss::kHuber:
       impl_->loss = std::make_unique<ceres::HuberLoss>(options_.loss_scale);
@@ -158,7 +200,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   const LidarOdometryOptions& o = options_;
 
   // 1. Rings.
-  double t0 = ThreadCpuMs();
+  double t0 = impl_->Now();
   const bool has_ring = scan.ring.size() == scan.size();
   if (o.ring_source == RingSource::kScanOrder ||
       (o.ring_source == RingSource::kAuto && !has_ring)) {
@@ -169,15 +211,16 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
     scan.ring.clear();
     AssignRings(&scan, *impl_->sensor);
   }
-  result.timing.rings = (ThreadCpuMs() - t0);
+  result.timing.rings = (impl_->Now() - t0);
 
   // 2. Features (+ deskew).
-  t0 = ThreadCpuMs();
+  t0 = impl_->Now();
   const bool deskew =
       o.deskew == DeskewMode::kOn ||
       (o.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
+  feature_options.num_threads = o.num_threads;
   ScanFeatures features;
   std::string error;
   if (!ExtractFeatures(scan, feature_options, &features, &error)) {
@@ -212,50 +255,46 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   deskew_with(T_pred);
   result.edge_points = static_cast<int>(edge_pts.size());
   result.plane_points = static_cast<int>(plane_pts.size());
-  result.timing.features = (ThreadCpuMs() - t0);
+  result.timing.features = (impl_->Now() - t0);
 
   SE3d T = T_pred;
   const bool first = poses_.empty() || plane_map_.NumPoints() + edge_map_.NumPoints() <
                                            static_cast<std::size_t>(o.min_correspondences);
   bool registered = first;
   if (!first) {
-    double params[7];
     const int k = std::min(o.num_neighbours, 16);
     const double max_d = std::min(o.max_correspondence_distance, plane_map_.options().voxel_size);
     const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
     for (int round = 0; round < max_rounds; ++round) {
       // 3. Correspondences (after deskewing with the current estimate).
-      t0 = ThreadCpuMs();
+      t0 = impl_->Now();
       if (round > 0) deskew_with(T);
       const Eigen::Matrix3d R = T.RotationMatrix();
       const Eigen::Vector3d t = T.translation();
-      impl_->planes.clear();
-      impl_->edges.clear();
-      for (const Eigen::Vector3d& p_s : plane_pts) {
-        const Eigen::Vector3d p_w = R * p_s + t;
-        if (plane_map_.KNearest(p_w, k, max_d, &impl_->neighbours) < k) continue;
-        const LocalFit fit = Fit(impl_->neighbours);
-        const Eigen::Vector3d m = fit.eigenvectors.col(0);
-        bool planar = true;
-        for (const auto& q : impl_->neighbours) {
-          if (std::abs(m.dot(q - fit.mean)) > o.plane_max_residual) {
-            planar = false;
-            break;
-          }
-        }
-        if (planar) impl_->planes.push_back({p_s, m, fit.mean});
-      }
       const double edge_max_d = std::min(max_d, edge_map_.options().voxel_size);
-      for (const Eigen::Vector3d& p_s : edge_pts) {
-        const Eigen::Vector3d p_w = R * p_s + t;
-        if (edge_map_.KNearest(p_w, k, edge_max_d, &impl_->neighbours) < k) continue;
-        const LocalFit fit = Fit(impl_->neighbours);
-        if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) continue;
-        impl_->edges.push_back({p_s, fit.mean, fit.eigenvectors.col(2)});
-      }
+      auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
+                             PlaneMatch* match) {
+        if (plane_map_.KNearest(R * p_s + t, k, max_d, nb) < k) return false;
+        const LocalFit fit = Fit(*nb);
+        const Eigen::Vector3d m = fit.eigenvectors.col(0);
+        for (const auto& q : *nb)
+          if (std::abs(m.dot(q - fit.mean)) > o.plane_max_residual) return false;
+        *match = {p_s, m, fit.mean};
+        return true;
+      };
+      auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
+                            EdgeMatch* match) {
+        if (edge_map_.KNearest(R * p_s + t, k, edge_max_d, nb) < k) return false;
+        const LocalFit fit = Fit(*nb);
+        if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) return false;
+        *match = {p_s, fit.mean, fit.eigenvectors.col(2)};
+        return true;
+      };
+      impl_->FindMatches(plane_pts, match_plane, &impl_->planes);
+      impl_->FindMatches(edge_pts, match_edge, &impl_->edges);
       result.plane_correspondences = static_cast<int>(impl_->planes.size());
       result.edge_correspondences = static_cast<int>(impl_->edges.size());
-      result.timing.correspondences += (ThreadCpuMs() - t0);
+      result.timing.correspondences += (impl_->Now() - t0);
       if (result.plane_correspondences + result.edge_correspondences < o.min_correspondences) {
         registered = false;
         error = "too few correspondences (" +
@@ -264,36 +303,26 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
       }
 
       // 4. Solve.
-      t0 = ThreadCpuMs();
-      ceres::Problem::Options problem_options;
-      problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-      problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-      ceres::Problem problem(problem_options);
-      T.ToParameters(params);
-      problem.AddParameterBlock(params, 7, &impl_->manifold);
-      ceres::LossFunction* loss = impl_->loss.get();
+      t0 = impl_->Now();
+      impl_->residuals.clear();
       for (const PlaneMatch& m : impl_->planes)
-        problem.AddResidualBlock(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma),
-                                 loss, params);
+        impl_->residuals.emplace_back(
+            PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma));
       for (const EdgeMatch& m : impl_->edges)
-        problem.AddResidualBlock(PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w,
-                                                           m.a_w - 0.1 * m.u_w, o.edge_sigma),
-                                 loss, params);
-      ceres::Solver::Options solver_options;
-      solver_options.linear_solver_type = ceres::DENSE_QR;
-      solver_options.max_num_iterations = o.max_iterations;
-      solver_options.num_threads = o.num_threads;
-      solver_options.logging_type = ceres::SILENT;
-      solver_options.minimizer_progress_to_stdout = false;
-      ceres::Solver::Summary summary;
-      ceres::Solve(solver_options, &problem, &summary);
-      result.solver_iterations += static_cast<int>(summary.iterations.size());
+        impl_->residuals.emplace_back(PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w,
+                                                                m.a_w - 0.1 * m.u_w, o.edge_sigma));
+      PoseSolverOptions solver_options;
+      solver_options.max_iterations = o.max_iterations;
+      SE3d T_solved = T;
+      const PoseSolverSummary summary =
+          SolvePose(impl_->residuals, impl_->loss.get(), solver_options, &T_solved);
+      result.solver_iterations += summary.iterations;
       result.final_cost = summary.final_cost;
-      SE3d T_solved = SE3d::FromParameters(params);
-      if (!T_solved.translation().allFinite() || !T_solved.rotation().coeffs().allFinite()) {
+      if (!summary.usable || !T_solved.translation().allFinite() ||
+          !T_solved.rotation().coeffs().allFinite()) {
         registered = false;
-        error = "solver diverged";
-        result.timing.solve += (ThreadCpuMs() - t0);
+        error = "solver failed: " + summary.message;
+        result.timing.solve += (impl_->Now() - t0);
         break;
       }
 
@@ -308,7 +337,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
       const Vector6d step = T_solved.Minus(T);
       T = T_solved;
       registered = true;
-      result.timing.solve += (ThreadCpuMs() - t0);
+      result.timing.solve += (impl_->Now() - t0);
       result.association_rounds = round + 1;
       const bool converged = step.tail<3>().norm() < o.convergence_translation &&
                              step.head<3>().norm() < o.convergence_rotation_deg * M_PI / 180.0;
@@ -317,7 +346,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   }
 
   // 5. Map update.
-  t0 = ThreadCpuMs();
+  t0 = impl_->Now();
   if (registered && !first) deskew_with(T);
   result.ok = registered;
   result.error = registered ? std::string() : error;
@@ -338,7 +367,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   }
   poses_.push_back(result.T_w_s);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
-  result.timing.map_update = (ThreadCpuMs() - t0);
+  result.timing.map_update = (impl_->Now() - t0);
   result.timing.total = MsSince(t_start);
   result.timing.cpu = ThreadCpuMs() - cpu_start;
   return result;

@@ -14,9 +14,9 @@
 //      more than the convergence thresholds in a round): transform the features with the current
 //      estimate, find correspondences in the local maps (5 nearest neighbours; edge if the largest
 //      eigenvalue of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
-//      neighbour lies within plane_max_residual of the fitted plane), solve with Ceres (a few
-//      iterations, DENSE_QR on the 6-dof pose), then remap the solution along degenerate
-//      directions;
+//      neighbour lies within plane_max_residual of the fitted plane), solve (a few robust
+//      Levenberg-Marquardt iterations on the pose, lidar/pose_solver.h), then remap the solution
+//      along degenerate directions;
 //   5. the downsampled features, in the world frame, enter the maps; voxels farther than
 //      map max_distance from the sensor are dropped.
 #pragma once
@@ -65,19 +65,20 @@ struct LidarOdometryOptions {
   int max_association_rounds = 5;          // more rounds while the pose still moves by more
   double convergence_translation = 0.005;  // m   than these in a round (large initial errors,
   double convergence_rotation_deg = 0.02;  // deg e.g. the first scan pair from zero velocity)
-  int max_iterations = 4;                  // Ceres iterations per round
+  int max_iterations = 4;                  // solver iterations per round
   int max_edge_points = 1000;              // cap on edge points used per scan (stride sampling)
   int max_plane_points = 3000;             // cap on plane points used per scan
   int min_correspondences = 30;            // fewer -> the scan keeps the predicted pose
-  double degeneracy_threshold = 0.3;       // on eigenvalues of H/N (see degeneracy.h)
+  double degeneracy_threshold = 0.03;      // unit-free eigen-gap ratio (see degeneracy.h)
   bool handle_degeneracy = true;           // remap the solution along degenerate directions
   bool constant_velocity = true;           // else the prediction is the previous pose
   int map_cleanup_every = 10;              // frames between RemoveFar calls
-  int num_threads = 1;                     // Ceres threads
+  int num_threads = 1;  // threads (TBB) for features and correspondences; > 1: wall-clock timings
 };
 
-// Milliseconds. The stages are measured in CPU time of the calling thread (meaningful on a
-// loaded machine and with num_threads = 1); `total` is wall-clock, `cpu` the thread CPU time.
+// Milliseconds. The stages are measured in CPU time of the calling thread when num_threads = 1
+// (meaningful on a loaded machine), else in wall-clock time; `total` is wall-clock, `cpu` the
+// calling thread's CPU time.
 struct FrameTimings {
   double rings = 0, features = 0, correspondences = 0, solve = 0, map_update = 0, total = 0;
   double cpu = 0;
@@ -94,7 +95,7 @@ struct FrameResult {
   int edge_points = 0, plane_points = 0;                    // features used
   int edge_correspondences = 0, plane_correspondences = 0;  // of the last round
   int association_rounds = 0;                               // rounds run
-  int solver_iterations = 0;                                // Ceres iterations over all rounds
+  int solver_iterations = 0;                                // solver iterations over all rounds
   double final_cost = 0.0;
   DegeneracyInfo degeneracy;
   bool deskewed = false;

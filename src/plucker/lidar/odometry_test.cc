@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -157,10 +158,14 @@ TEST(LidarOdometryTest, KittiExtractPerFrameAccuracy) {
   EXPECT_LT(dt.back(), 0.03);
 }
 
-// Evidence for the bound above, independent of the odometry: scan 1 is placed in scan 0 with the
-// ground-truth relative motion, its translation scaled by s; the mean point-to-plane distance to
-// scan 0 (raw points, local planes from 6 neighbours) is smaller at s = 0.8 than at s = 1, i.e.
-// the scans show ~0.69 m of motion where poses/00.txt says 0.86 m.
+// Evidence for the bound above, independent of the odometry: scan k+1 is placed in scan k with
+// the ground-truth relative motion, its translation scaled by s, and the mean point-to-plane
+// distance to scan k (raw points, local planes from 6 neighbours) is computed for s = 0.6..1.1.
+// Six disjoint parts of the scan vote separately: the front, back, left and right quadrants above
+// the ground, the ground (z < -1.4 m), and everything. For the first pair every part fits best at
+// s ~ 0.8 (the scans show ~0.69 m of motion where poses/00.txt says 0.86 m); for pair 13-14 every
+// part fits best at s = 1. Parts of the scene that share no structure agree, so the disagreement
+// is between the scans and the poses at the start of the extract, not an artefact of one surface.
 TEST(LidarOdometryTest, KittiScansPreferShorterMotionThanGroundTruth) {
   const std::string root = KittiRoot();
   if (!std::filesystem::exists(root + "/sequences/00/velodyne")) {
@@ -169,44 +174,76 @@ TEST(LidarOdometryTest, KittiScansPreferShorterMotionThanGroundTruth) {
   const io::LidarSequence seq = io::LidarSequence::Open(root, "00");
   const std::vector<SE3d> gt = io::ReadTrajectory(root + "/poses/00.txt").poses;
   const SE3d Tr = *seq.T_cam0_velo();
-  LidarScan s0, s1;
-  std::string error;
-  ASSERT_TRUE(seq.Read(0, &s0, &error) && seq.Read(1, &s1, &error)) << error;
-  VoxelMap map({1.0, 200, 0.05, 1e9});
-  std::vector<Eigen::Vector3d> p0;
-  for (const auto& p : s0.points)
-    if (p.norm() > 3 && p.norm() < 60) p0.push_back(p);
-  map.AddPoints(p0);
-  const SE3d rel_gt = Tr.Inverse() * (gt[0].Inverse() * gt[1]) * Tr;
-  auto mean_distance = [&](double s) {
-    const SE3d T(rel_gt.rotation(), s * rel_gt.translation());
+  const char* kParts[] = {"front", "back", "left", "right", "ground", "all"};
+  constexpr int kNumParts = 6;
+  auto best_scale_per_part = [&](std::size_t k) {
+    LidarScan s0, s1;
+    std::string error;
+    EXPECT_TRUE(seq.Read(k, &s0, &error) && seq.Read(k + 1, &s1, &error)) << error;
+    VoxelMap map({1.0, 200, 0.05, 1e9});
+    std::vector<Eigen::Vector3d> p0;
+    for (const auto& p : s0.points)
+      if (p.norm() > 3 && p.norm() < 60) p0.push_back(p);
+    map.AddPoints(p0);
+    const SE3d rel_gt = Tr.Inverse() * (gt[k].Inverse() * gt[k + 1]) * Tr;
+    std::array<double, kNumParts> best_s{}, best_d;
+    best_d.fill(1e9);
     std::vector<Eigen::Vector3d> nb;
-    double sum = 0;
-    int n = 0;
-    for (std::size_t i = 0; i < s1.points.size(); i += 7) {
-      const Eigen::Vector3d& p = s1.points[i];
-      if (p.norm() < 3 || p.norm() > 60) continue;
-      const Eigen::Vector3d q = T * p;
-      if (map.KNearest(q, 6, 1.0, &nb) < 6) continue;
-      Eigen::Vector3d m = Eigen::Vector3d::Zero();
-      for (const auto& x : nb) m += x;
-      m /= 6;
-      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-      for (const auto& x : nb) C += (x - m) * (x - m).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
-      if (es.eigenvalues()(0) > 0.05 * es.eigenvalues()(1)) continue;
-      const double d = std::abs(es.eigenvectors().col(0).dot(q - m));
-      if (d < 0.2) {
-        sum += d;
-        ++n;
+    for (int step = 0; step <= 10; ++step) {
+      const double scale = 0.6 + 0.05 * step;
+      const SE3d T(rel_gt.rotation(), scale * rel_gt.translation());
+      std::array<double, kNumParts> sum{};
+      std::array<int, kNumParts> count{};
+      for (std::size_t i = 0; i < s1.points.size(); i += 9) {
+        const Eigen::Vector3d& p = s1.points[i];
+        if (p.norm() < 3 || p.norm() > 60) continue;
+        const Eigen::Vector3d q = T * p;
+        if (map.KNearest(q, 6, 1.0, &nb) < 6) continue;
+        Eigen::Vector3d m = Eigen::Vector3d::Zero();
+        for (const auto& x : nb) m += x;
+        m /= 6;
+        Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+        for (const auto& x : nb) C += (x - m) * (x - m).transpose();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+        if (es.eigenvalues()(0) > 0.05 * es.eigenvalues()(1)) continue;
+        const double d = std::min(std::abs(es.eigenvectors().col(0).dot(q - m)), 0.1);
+        int part = 4;  // ground
+        if (p.z() > -1.4) {
+          if (std::abs(p.x()) > std::abs(p.y()))
+            part = p.x() > 0 ? 0 : 1;
+          else
+            part = p.y() > 0 ? 2 : 3;
+        }
+        for (const int j : {part, 5}) {
+          sum[j] += d;
+          ++count[j];
+        }
+      }
+      for (int j = 0; j < kNumParts; ++j) {
+        const double mean = count[j] > 0 ? sum[j] / count[j] : 1e9;
+        if (mean < best_d[j]) {
+          best_d[j] = mean;
+          best_s[j] = scale;
+        }
       }
     }
-    return sum / n;
+    return best_s;
   };
-  const double at_gt = mean_distance(1.0), at_08 = mean_distance(0.8);
-  std::printf("mean point-to-plane distance: %.4f m at the ground truth, %.4f m at 0.8x\n", at_gt,
-              at_08);
-  EXPECT_LT(at_08, 0.8 * at_gt);
+  for (const std::size_t k : {std::size_t{0}, std::size_t{13}}) {
+    const std::array<double, kNumParts> best = best_scale_per_part(k);
+    std::printf("scans %zu-%zu, best scale of the ground-truth translation:", k, k + 1);
+    for (int j = 0; j < kNumParts; ++j) std::printf(" %s %.2f", kParts[j], best[j]);
+    std::printf("\n");
+    for (int j = 0; j < kNumParts; ++j) {
+      if (k == 0) {
+        EXPECT_GE(best[j], 0.7) << kParts[j];
+        EXPECT_LE(best[j], 0.85) << kParts[j];
+      } else {
+        EXPECT_GE(best[j], 0.95) << kParts[j];
+        EXPECT_LE(best[j], 1.05) << kParts[j];
+      }
+    }
+  }
 }
 
 }  // namespace

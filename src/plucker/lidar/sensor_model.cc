@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "plucker/lidar/fast_atan2.h"
+
 namespace plucker {
 namespace lidar {
 namespace {
@@ -13,7 +15,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
-double Elevation(const Eigen::Vector3d& p) { return std::atan2(p.z(), p.head<2>().norm()); }
+double Elevation(const Eigen::Vector3d& p) { return FastAtan2(p.z(), p.head<2>().norm()); }
 
 std::vector<double> SortedRadians(std::vector<double> deg) {
   std::sort(deg.begin(), deg.end());
@@ -126,7 +128,7 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   scan->ring.assign(n, 0);
   if (n == 0) return stats;
   std::vector<double> az(n);
-  for (std::size_t i = 0; i < n; ++i) az[i] = std::atan2(scan->points[i].y(), scan->points[i].x());
+  for (std::size_t i = 0; i < n; ++i) az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
   // Sweep direction: the sign of the typical small step between consecutive points.
   double sum = 0.0;
   for (std::size_t i = 1; i < n; ++i) {
@@ -143,8 +145,10 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   auto split = [&](double a0) {
     std::vector<std::size_t> starts = {0};
     auto u = [&](std::size_t i) {
-      double v = std::fmod(dir * (az[i] - a0), 2 * kPi);
-      return v < 0 ? v + 2 * kPi : v;
+      double v = dir * (az[i] - a0);  // in (-4 pi, 4 pi): az and a0 are within ~(-2 pi, 2 pi)
+      while (v < 0) v += 2 * kPi;
+      while (v >= 2 * kPi) v -= 2 * kPi;
+      return v;
     };
     double reached = u(0), prev = u(0);  // largest u of the current ring
     for (std::size_t i = 1; i < n; ++i) {
@@ -163,19 +167,18 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   std::vector<std::size_t> starts = split(az[0]);
   double earliest = 0.0;  // offset of the earliest ring start from az[0], in sweep direction
   for (std::size_t s : starts) earliest = std::min(earliest, dir * WrapAngle(az[s] - az[0]));
-  if (starts.size() > 1) starts = split(az[0] + dir * (earliest - 1e-6));
+  if (starts.size() > 1 && earliest < 0.0) starts = split(az[0] + dir * (earliest - 1e-6));
   const int rings = static_cast<int>(starts.size());
   starts.push_back(n);
-  std::vector<double> mean_elevation(rings, 0.0);
-  for (int r = 0; r < rings; ++r) {
-    for (std::size_t i = starts[r]; i < starts[r + 1]; ++i) {
-      scan->ring[i] = r;
-      mean_elevation[r] += Elevation(scan->points[i]);
-    }
-    mean_elevation[r] /= static_cast<double>(starts[r + 1] - starts[r]);
-  }
+  for (int r = 0; r < rings; ++r)
+    std::fill(scan->ring.begin() + starts[r], scan->ring.begin() + starts[r + 1], r);
+  auto mean_elevation = [&](int r) {
+    double sum = 0.0;
+    for (std::size_t i = starts[r]; i < starts[r + 1]; ++i) sum += Elevation(scan->points[i]);
+    return sum / static_cast<double>(starts[r + 1] - starts[r]);
+  };
   // Ring 0 must be the lowest beam: flip when the stream runs from the top beam down.
-  if (rings > 1 && mean_elevation.front() > mean_elevation.back()) {
+  if (rings > 1 && mean_elevation(0) > mean_elevation(rings - 1)) {
     for (int& r : scan->ring) r = rings - 1 - r;
   }
   stats.rings_found = rings;

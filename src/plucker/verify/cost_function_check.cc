@@ -1,6 +1,7 @@
 #include "plucker/verify/cost_function_check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace plucker {
@@ -41,6 +42,85 @@ bool PlusAll(const std::vector<const ceres::Manifold*>& manifolds,
   return true;
 }
 
+// One sample of RunCostFunctionCheck.
+void AddCostFunctionSample(const CostFunctionSample& sample, JacobianCheckStats* stats) {
+  const std::vector<Eigen::VectorXd>& x = sample.x;
+  const std::vector<const ceres::Manifold*>& manifolds = sample.manifolds;
+  const std::string& what = sample.what;
+  const Eigen::MatrixXd nan = Eigen::MatrixXd::Constant(1, 1, std::nan(""));
+  Eigen::VectorXd r_an, r_ad;
+  std::vector<Eigen::MatrixXd> J_an, J_ad;
+  const bool ok = EvaluateCostFunction(*sample.analytic, x, &r_an, &J_an);
+  const bool ok_ad = EvaluateCostFunction(*sample.autodiff, x, &r_ad, &J_ad);
+  if (!ok || !ok_ad || sample.expect_refusal) {
+    if (!ok && !ok_ad && sample.expect_refusal) {
+      ++stats->skipped;  // the expected guard, refused by both
+    } else {
+      stats->Add(nan, nan, nan,
+                 what + ": refusal mismatch (analytic " + (ok ? "evaluates" : "refuses") +
+                     ", autodiff " + (ok_ad ? "evaluates" : "refuses") + ", expected " +
+                     (sample.expect_refusal ? "refusal" : "evaluation") + ")");
+    }
+    return;
+  }
+
+  // Tangent Jacobians: ambient * PlusJacobian (MinusJacobian * PlusJacobian = I).
+  std::vector<Eigen::MatrixXd> J_tan;
+  std::vector<double> step;  // per tangent coordinate
+  for (size_t i = 0; i < x.size(); ++i) {
+    const ceres::Manifold* m = manifolds[i];
+    if (!m) {
+      J_tan.push_back(J_an[i]);
+    } else {
+      RowMajorMatrix P(m->AmbientSize(), m->TangentSize());
+      if (!m->PlusJacobian(x[i].data(), P.data())) {
+        return stats->Add(nan, nan, nan, what + ": PlusJacobian refuses");
+      }
+      J_tan.push_back(J_an[i] * P);
+    }
+    step.resize(step.size() + J_tan.back().cols(), sample.steps.empty() ? 1e-6 : sample.steps[i]);
+  }
+  // Central differences with step h_j: unit steps of the scaled delta, divided by h_j.
+  const Eigen::Map<const Eigen::VectorXd> h(step.data(), step.size());
+  bool plus_ok = true;
+  Eigen::MatrixXd J_num = NumericJacobian(
+      [&](const Eigen::VectorXd& delta) {
+        std::vector<Eigen::VectorXd> xp;
+        Eigen::VectorXd r;
+        if (!PlusAll(manifolds, x, h.cwiseProduct(delta), &xp) ||
+            !EvaluateCostFunction(*sample.analytic, xp, &r, nullptr)) {
+          plus_ok = false;
+          return Eigen::VectorXd(Eigen::VectorXd::Zero(r_an.size()));
+        }
+        return r;
+      },
+      Eigen::VectorXd::Zero(h.size()), 1.0);
+  if (!plus_ok) return stats->Add(nan, nan, nan, what + ": refuses a differencing step");
+  J_num *= h.cwiseInverse().asDiagonal();
+
+  const Eigen::MatrixXd A = Concatenate(J_an), B = Concatenate(J_ad), T = Concatenate(J_tan);
+  const double residual_err = (r_an - r_ad).norm() / std::max(r_ad.norm(), sample.residual_scale);
+  const double ea = std::max(JacobianError(A, B), residual_err);
+  const double en = JacobianError(T, J_num);
+  ++stats->samples;
+  stats->worst_autodiff = std::max(stats->worst_autodiff, ea);
+  stats->worst_numeric = std::max(stats->worst_numeric, en);
+  if (!(ea <= stats->autodiff_tolerance) || !(en <= stats->numeric_tolerance)) {
+    if (stats->failures == 0) {
+      std::ostringstream os;
+      os << stats->name << " sample " << stats->samples << (what.empty() ? "" : " (" + what + ")")
+         << ": err vs autodiff " << ea << " (residual " << residual_err << "), vs numeric " << en
+         << "\nanalytic ambient:\n"
+         << A << "\nautodiff ambient:\n"
+         << B << "\nanalytic tangent:\n"
+         << T << "\nnumeric tangent:\n"
+         << J_num;
+      stats->first_failure = os.str();
+    }
+    ++stats->failures;
+  }
+}
+
 }  // namespace
 
 bool EvaluateCostFunction(const ceres::CostFunction& f, const std::vector<Eigen::VectorXd>& x,
@@ -70,66 +150,16 @@ bool EvaluateCostFunction(const ceres::CostFunction& f, const std::vector<Eigen:
   return true;
 }
 
-bool AddCostFunctionSample(const ceres::CostFunction& analytic, const ceres::CostFunction& autodiff,
-                           const std::vector<const ceres::Manifold*>& manifolds,
-                           const std::vector<Eigen::VectorXd>& x, JacobianCheckStats* stats,
-                           const std::string& what, double h) {
-  Eigen::VectorXd r_an, r_ad;
-  std::vector<Eigen::MatrixXd> J_an, J_ad;
-  if (!EvaluateCostFunction(analytic, x, &r_an, &J_an)) return false;
-  if (!EvaluateCostFunction(autodiff, x, &r_ad, &J_ad)) return false;
-
-  // Tangent Jacobians: ambient * PlusJacobian (MinusJacobian * PlusJacobian = I).
-  std::vector<Eigen::MatrixXd> J_tan;
-  Eigen::Index tangent_size = 0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const ceres::Manifold* m = manifolds[i];
-    if (!m) {
-      J_tan.push_back(J_an[i]);
-    } else {
-      RowMajorMatrix P(m->AmbientSize(), m->TangentSize());
-      if (!m->PlusJacobian(x[i].data(), P.data())) return false;
-      J_tan.push_back(J_an[i] * P);
-    }
-    tangent_size += J_tan.back().cols();
+JacobianCheckStats RunCostFunctionCheck(const std::string& name, std::uint64_t seed_offset,
+                                        const JacobianCheckOptions& o,
+                                        const std::function<CostFunctionSample(Rng&, int)>& make) {
+  JacobianCheckStats stats;
+  stats.name = name;
+  Rng rng(o.seed + seed_offset);
+  for (int i = 0; stats.samples < o.samples && stats.skipped <= o.samples; ++i) {
+    AddCostFunctionSample(make(rng, i), &stats);
   }
-  bool plus_ok = true;
-  const Eigen::MatrixXd J_num = NumericJacobian(
-      [&](const Eigen::VectorXd& delta) {
-        std::vector<Eigen::VectorXd> xp;
-        Eigen::VectorXd r;
-        if (!PlusAll(manifolds, x, delta, &xp) ||
-            !EvaluateCostFunction(analytic, xp, &r, nullptr)) {
-          plus_ok = false;
-          return Eigen::VectorXd(Eigen::VectorXd::Constant(r_an.size(), 0.0));
-        }
-        return r;
-      },
-      Eigen::VectorXd::Zero(tangent_size), h);
-  if (!plus_ok) return false;
-
-  const Eigen::MatrixXd A = Concatenate(J_an), B = Concatenate(J_ad), T = Concatenate(J_tan);
-  const double residual_err = (r_an - r_ad).norm() / std::max(r_ad.norm(), 1.0);
-  const double ea = std::max(JacobianError(A, B), residual_err);
-  const double en = JacobianError(T, J_num);
-  ++stats->samples;
-  stats->worst_autodiff = std::max(stats->worst_autodiff, ea);
-  stats->worst_numeric = std::max(stats->worst_numeric, en);
-  if (!(ea <= stats->autodiff_tolerance) || !(en <= stats->numeric_tolerance)) {
-    if (stats->failures == 0) {
-      std::ostringstream os;
-      os << stats->name << " sample " << stats->samples << (what.empty() ? "" : " (" + what + ")")
-         << ": err vs autodiff " << ea << " (residual " << residual_err << "), vs numeric " << en
-         << "\nanalytic ambient:\n"
-         << A << "\nautodiff ambient:\n"
-         << B << "\nanalytic tangent:\n"
-         << T << "\nnumeric tangent:\n"
-         << J_num;
-      stats->first_failure = os.str();
-    }
-    ++stats->failures;
-  }
-  return true;
+  return stats;
 }
 
 }  // namespace verify

@@ -7,8 +7,8 @@
 // factor sample 0 puts the point 1 cm from the line instead: on the line it has its kink (the
 // distance is zero up to rounding and the gradient direction is noise; the zero-distance
 // behaviour is tested in factors_lidar_factors_test).
-#include <memory>
-#include <sstream>
+#include <string>
+#include <vector>
 
 #include "plucker/factors/lidar_factors.h"
 #include "plucker/factors/pose_manifold.h"
@@ -68,81 +68,50 @@ std::string Describe(int i) {
   return i < 7 ? kNames[i] : "random";
 }
 
-template <typename Make>
-JacobianCheckStats CheckLidarFactor(const std::string& name, std::uint64_t seed_offset,
-                                    bool near_instead_of_on_feature, const JacobianCheckOptions& o,
-                                    const Make& make) {
-  JacobianCheckStats stats;
-  stats.name = name;
-  Rng rng(o.seed + seed_offset);
-  PoseManifold manifold;
-  const std::vector<const ceres::Manifold*> manifolds = {&manifold};
-  for (int i = 0; i < o.samples; ++i) {
-    LidarSample s = MakeSample(rng, i);
-    std::string what = Describe(i);
-    if (near_instead_of_on_feature && i == 0) {
-      // Shift the line 1 cm sideways: close to the kink, yet smooth at the difference step.
-      const Eigen::Vector3d side = (s.b_w - s.a_w).normalized().unitOrthogonal() * 0.01;
-      s.a_w += side;
-      s.b_w += side;
-      what = "1 cm from the line";
-    }
-    std::unique_ptr<ceres::CostFunction> analytic, autodiff;
-    make(s, &analytic, &autodiff);
-    Eigen::VectorXd x(7);
-    s.T_w_s.ToParameters(x.data());
-    if (!AddCostFunctionSample(*analytic, *autodiff, manifolds, {x}, &stats, what)) {
-      ++stats.skipped;
-    }
-  }
-  return stats;
-}
-
-using CostPtr = std::unique_ptr<ceres::CostFunction>;
-
-JacobianCheckStats CheckPlane(const JacobianCheckOptions& o) {
-  return CheckLidarFactor(
-      "factor.lidar.PointToPlane", 101, false, o,
-      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-        an->reset(PointToPlaneFactor::Create(s.p_s, s.m_w, s.q_w, s.sigma));
-        ad->reset(PointToPlaneFactor::CreateAutoDiff(s.p_s, s.m_w, s.q_w, s.sigma));
-      });
-}
-
-JacobianCheckStats CheckEdge(const JacobianCheckOptions& o) {
-  return CheckLidarFactor(
-      "factor.lidar.PointToEdge", 102, false, o,
-      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-        an->reset(PointToEdgeFactor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
-        ad->reset(PointToEdgeFactor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
-      });
-}
-
-JacobianCheckStats CheckEdge2(const JacobianCheckOptions& o) {
-  return CheckLidarFactor(
-      "factor.lidar.PointToEdge2", 103, false, o,
-      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-        an->reset(PointToEdge2Factor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
-        ad->reset(PointToEdge2Factor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
-      });
-}
-
-JacobianCheckStats CheckEdgeScalar(const JacobianCheckOptions& o) {
-  return CheckLidarFactor(
-      "factor.lidar.PointToEdgeScalar", 104, true, o,
-      [](const LidarSample& s, CostPtr* an, CostPtr* ad) {
-        an->reset(PointToEdgeScalarFactor::Create(s.p_s, s.a_w, s.b_w, s.sigma));
-        ad->reset(PointToEdgeScalarFactor::CreateAutoDiff(s.p_s, s.a_w, s.b_w, s.sigma));
-      });
+// The check of the factor made by create / create_autodiff(p_s, feature_a, feature_b, sigma) at
+// the pose T_w_s; `plane` passes (m_w, q_w), otherwise (a_w, b_w). `near_instead_of_on_feature`
+// moves sample 0 to 1 cm from the line.
+template <typename Create>
+NamedJacobianCheck LidarFactorCheck(const std::string& name, std::uint64_t seed, bool plane,
+                                    bool near_instead_of_on_feature, Create create,
+                                    Create create_autodiff) {
+  return {name, [=](const JacobianCheckOptions& o) {
+            const PoseManifold pose;
+            return RunCostFunctionCheck(name, seed, o, [&](Rng& rng, int i) {
+              LidarSample s = MakeSample(rng, i);
+              CostFunctionSample c;
+              c.what = Describe(i);
+              if (near_instead_of_on_feature && i == 0) {
+                // 1 cm sideways: close to the kink, yet smooth at the difference step.
+                const Eigen::Vector3d side = (s.b_w - s.a_w).normalized().unitOrthogonal() * 0.01;
+                s.a_w += side;
+                s.b_w += side;
+                c.what = "1 cm from the line";
+              }
+              const Eigen::Vector3d& f1 = plane ? s.m_w : s.a_w;
+              const Eigen::Vector3d& f2 = plane ? s.q_w : s.b_w;
+              c.analytic.reset(create(s.p_s, f1, f2, s.sigma));
+              c.autodiff.reset(create_autodiff(s.p_s, f1, f2, s.sigma));
+              c.x = {Eigen::VectorXd(7)};
+              s.T_w_s.ToParameters(c.x[0].data());
+              c.manifolds = {&pose};
+              return c;
+            });
+          }};
 }
 
 }  // namespace
 
 std::vector<NamedJacobianCheck> LidarFactorJacobianChecks() {
-  return {{"factor.lidar.PointToPlane", CheckPlane},
-          {"factor.lidar.PointToEdge", CheckEdge},
-          {"factor.lidar.PointToEdge2", CheckEdge2},
-          {"factor.lidar.PointToEdgeScalar", CheckEdgeScalar}};
+  return {
+      LidarFactorCheck("factor.lidar.PointToPlane", 101, true, false, &PointToPlaneFactor::Create,
+                       &PointToPlaneFactor::CreateAutoDiff),
+      LidarFactorCheck("factor.lidar.PointToEdge", 102, false, false, &PointToEdgeFactor::Create,
+                       &PointToEdgeFactor::CreateAutoDiff),
+      LidarFactorCheck("factor.lidar.PointToEdge2", 103, false, false, &PointToEdge2Factor::Create,
+                       &PointToEdge2Factor::CreateAutoDiff),
+      LidarFactorCheck("factor.lidar.PointToEdgeScalar", 104, false, true,
+                       &PointToEdgeScalarFactor::Create, &PointToEdgeScalarFactor::CreateAutoDiff)};
 }
 
 }  // namespace verify

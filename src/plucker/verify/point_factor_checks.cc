@@ -5,7 +5,8 @@
 // Curated first samples: 0 identity pose(s), 1 a rotation of exactly pi, 2 a rotation pi - 1e-7,
 // 3 a point 100 m away, 4 a point 5 cm in front of the camera, 5 a point on the optical axis,
 // 6 a point far off-axis (x/z = 2), 7 an identity extrinsic (VI only matters).
-#include <memory>
+#include <string>
+#include <vector>
 
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
@@ -69,54 +70,41 @@ std::string Describe(int i) {
   return i < 8 ? kNames[i] : "random";
 }
 
-JacobianCheckStats CheckPointReprojection(const JacobianCheckOptions& o) {
-  JacobianCheckStats stats;
-  stats.name = "factor.point.Reprojection";
-  Rng rng(o.seed + 201);
-  PoseManifold pose;
-  for (int i = 0; i < o.samples; ++i) {
-    const PointSample s = MakeSample(rng, i);
-    const std::unique_ptr<ceres::CostFunction> an(
-        PointReprojectionFactor::Create(s.K, s.uv, s.sqrt_information));
-    const std::unique_ptr<ceres::CostFunction> ad(
-        PointReprojectionFactor::CreateAutoDiff(s.K, s.uv, s.sqrt_information));
-    Eigen::VectorXd x(7);
-    (s.T_w_b * s.T_b_c).ToParameters(x.data());
-    if (!AddCostFunctionSample(*an, *ad, {&pose, nullptr}, {x, Eigen::VectorXd(s.p_w)}, &stats,
-                               Describe(i))) {
-      ++stats.skipped;
-    }
-  }
-  return stats;
-}
-
-JacobianCheckStats CheckPointReprojectionVI(const JacobianCheckOptions& o) {
-  JacobianCheckStats stats;
-  stats.name = "factor.point.ReprojectionVI";
-  Rng rng(o.seed + 202);
-  PoseManifold pose;
-  for (int i = 0; i < o.samples; ++i) {
-    const PointSample s = MakeSample(rng, i);
-    const std::unique_ptr<ceres::CostFunction> an(
-        PointReprojectionFactorVI::Create(s.K, s.uv, s.sqrt_information));
-    const std::unique_ptr<ceres::CostFunction> ad(
-        PointReprojectionFactorVI::CreateAutoDiff(s.K, s.uv, s.sqrt_information));
-    Eigen::VectorXd x_wb(7), x_bc(7);
-    s.T_w_b.ToParameters(x_wb.data());
-    s.T_b_c.ToParameters(x_bc.data());
-    if (!AddCostFunctionSample(*an, *ad, {&pose, &pose, nullptr},
-                               {x_wb, x_bc, Eigen::VectorXd(s.p_w)}, &stats, Describe(i))) {
-      ++stats.skipped;
-    }
-  }
-  return stats;
+// The check of the factor made by create / create_autodiff: a pose (T_w_c, or T_w_b and T_b_c
+// with vi) and the world point.
+template <typename Create>
+NamedJacobianCheck PointFactorCheck(const std::string& name, std::uint64_t seed, bool vi,
+                                    Create create, Create create_autodiff) {
+  return {name, [=](const JacobianCheckOptions& o) {
+            const PoseManifold pose;
+            return RunCostFunctionCheck(name, seed, o, [&](Rng& rng, int i) {
+              const PointSample s = MakeSample(rng, i);
+              CostFunctionSample c;
+              c.analytic.reset(create(s.K, s.uv, s.sqrt_information));
+              c.autodiff.reset(create_autodiff(s.K, s.uv, s.sqrt_information));
+              const std::vector<SE3d> poses =
+                  vi ? std::vector<SE3d>{s.T_w_b, s.T_b_c} : std::vector<SE3d>{s.T_w_b * s.T_b_c};
+              for (const SE3d& T : poses) {
+                c.x.emplace_back(7);
+                T.ToParameters(c.x.back().data());
+                c.manifolds.push_back(&pose);
+              }
+              c.x.push_back(s.p_w);
+              c.manifolds.push_back(nullptr);
+              c.what = Describe(i);
+              return c;
+            });
+          }};
 }
 
 }  // namespace
 
 std::vector<NamedJacobianCheck> PointFactorJacobianChecks() {
-  return {{"factor.point.Reprojection", CheckPointReprojection},
-          {"factor.point.ReprojectionVI", CheckPointReprojectionVI}};
+  return {
+      PointFactorCheck("factor.point.Reprojection", 201, false, &PointReprojectionFactor::Create,
+                       &PointReprojectionFactor::CreateAutoDiff),
+      PointFactorCheck("factor.point.ReprojectionVI", 202, true, &PointReprojectionFactorVI::Create,
+                       &PointReprojectionFactorVI::CreateAutoDiff)};
 }
 
 }  // namespace verify
