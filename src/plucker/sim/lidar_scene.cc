@@ -484,10 +484,14 @@ LidarScene MakeCorridorScene(const CorridorSceneOptions& opt) {
     end.center = Eigen::Vector3d(x, 0.0, 0.5 * H);
     scene.AddRectangle(end);
   }
-  // Along the axis and back in a narrow loop (tight turns at the far ends).
+  // Along the axis and back in a narrow loop (tight turns at the far ends). The route starts on
+  // the first straight leg, 10 m from the end wall: the first frames drive straight (a start in
+  // the corner turned tens of degrees between the first two scans) and see the end wall, which
+  // fixes the speed before the featureless middle of the corridor.
   const double off = std::min(1.0, 0.3 * hw);
-  scene.route = {Eigen::Vector2d(5.0, -off), Eigen::Vector2d(L - 5.0, -off),
-                 Eigen::Vector2d(L - 5.0, off), Eigen::Vector2d(5.0, off)};
+  scene.route = {Eigen::Vector2d(10.0, -off), Eigen::Vector2d(L - 5.0, -off),
+                 Eigen::Vector2d(L - 5.0, off), Eigen::Vector2d(5.0, off),
+                 Eigen::Vector2d(5.0, -off)};
   scene.Build();
   return scene;
 }
