@@ -142,6 +142,9 @@ void LoadConfig(const std::string& path, lidar::LidarOdometryOptions* o, double*
   b.Integer("registration.min_correspondences", &o->min_correspondences);
   b.Bool("registration.constant_velocity", &o->constant_velocity);
   b.Number("degeneracy.threshold", &o->degeneracy_threshold);
+  b.Number("degeneracy.rotation_threshold", &o->degeneracy_rotation_threshold);
+  b.Number("degeneracy.max_translation_information", &o->degeneracy_max_translation_information);
+  b.Number("degeneracy.max_rotation_information", &o->degeneracy_max_rotation_information);
   b.Bool("degeneracy.handle", &o->handle_degeneracy);
   b.Text("deskew", "auto, on or off",
          [o](const YAML::Node& n) { o->deskew = lidar::ParseDeskewMode(n.as<std::string>()); });
@@ -309,6 +312,8 @@ int RunLidar(const LidarArgs& a) {
                           {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
                           {"translation_ratios", Vec(r.degeneracy.translation_ratios)},
                           {"rotation_ratios", Vec(r.degeneracy.rotation_ratios)},
+                          {"translation_information", Vec(r.degeneracy.translation_information)},
+                          {"rotation_information", Vec(r.degeneracy.rotation_information)},
                           {"deskewed", r.deskewed},
                           {"map_points", r.map_points}};
       if (!r.ok) f["error"] = r.error;

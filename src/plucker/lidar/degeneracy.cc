@@ -35,8 +35,12 @@ void AnalyseBlock(const Eigen::Matrix3d& S, Eigen::Vector3d* information,
   (*ratios)(0) = std::min(Ratio(mu(0), mu(1)), (*ratios)(1));
 }
 
-int CountBelow(const Eigen::Vector3d& ratios, double threshold) {
-  return static_cast<int>((ratios.array() < threshold).count());
+Eigen::Vector3i Flags(const Eigen::Vector3d& ratios, const Eigen::Vector3d& information,
+                      double max_ratio, double max_information) {
+  Eigen::Vector3i flags;
+  for (int i = 0; i < 3; ++i)
+    flags(i) = ratios(i) < max_ratio && !(information(i) >= max_information) ? 1 : 0;
+  return flags;
 }
 
 }  // namespace
@@ -66,11 +70,20 @@ void NormalEquations::AddEdge(const SE3d& T_w_s, const Eigen::Vector3d& p_s,
 }
 
 DegeneracyInfo NormalEquations::Analyse(double threshold) const {
+  DegeneracyCriterion criterion;
+  criterion.translation_ratio = threshold;
+  criterion.rotation_ratio = RotationThreshold(threshold);
+  return Analyse(criterion);
+}
+
+DegeneracyInfo NormalEquations::Analyse(const DegeneracyCriterion& criterion) const {
   DegeneracyInfo info;
   if (rows_ == 0 || !H_.allFinite()) {
     info.degenerate = true;
     info.num_degenerate_rotations = info.num_degenerate_translations = 3;
     info.num_degenerate_directions = 6;
+    info.rotation_flags.setOnes();
+    info.translation_flags.setOnes();
     return info;
   }
   const Matrix6d Hn = H_ / rows_;
@@ -87,27 +100,31 @@ DegeneracyInfo NormalEquations::Analyse(double threshold) const {
   AnalyseBlock(S_r, &info.rotation_information, &info.rotation_directions, &info.rotation_ratios);
   AnalyseBlock(S_t, &info.translation_information, &info.translation_directions,
                &info.translation_ratios);
-  info.num_degenerate_rotations = CountBelow(info.rotation_ratios, RotationThreshold(threshold));
-  info.num_degenerate_translations = CountBelow(info.translation_ratios, threshold);
+  info.rotation_flags = Flags(info.rotation_ratios, info.rotation_information,
+                              criterion.rotation_ratio, criterion.max_rotation_information);
+  info.translation_flags =
+      Flags(info.translation_ratios, info.translation_information, criterion.translation_ratio,
+            criterion.max_translation_information);
+  info.num_degenerate_rotations = info.rotation_flags.sum();
+  info.num_degenerate_translations = info.translation_flags.sum();
   info.num_degenerate_directions = info.num_degenerate_rotations + info.num_degenerate_translations;
   info.degenerate = info.num_degenerate_directions > 0;
   return info;
 }
 
-SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const DegeneracyInfo& info,
-                   double threshold) {
+SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const DegeneracyInfo& info) {
   if (!info.degenerate) return T_solution;
   // The flagged directions as constraints C^T delta = 0.
   Eigen::Matrix<double, 6, Eigen::Dynamic> C(6, 6);
   int k = 0;
   for (int i = 0; i < 3; ++i) {
-    if (info.rotation_ratios(i) < RotationThreshold(threshold)) {
+    if (info.rotation_flags(i)) {
       C.col(k).setZero();
       C.col(k++).head<3>() = info.rotation_directions.col(i);
     }
   }
   for (int i = 0; i < 3; ++i) {
-    if (info.translation_ratios(i) < threshold) {
+    if (info.translation_flags(i)) {
       C.col(k).setZero();
       C.col(k++).tail<3>() = info.translation_directions.col(i);
     }

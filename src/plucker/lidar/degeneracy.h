@@ -15,7 +15,9 @@
 // fraction of the NEXT stronger direction of the same block (an eigen-gap):
 //   ratio(mu1) = mu1 / mu2,   ratio(mu0) = min(mu0 / mu1, mu1 / mu2),   ratio(mu2) = 1,
 // flagged when ratio < threshold for translations and < RotationThreshold(threshold) =
-// threshold / 3 for rotations. The ratios are invariant to a global scaling of H (sigma, N, the
+// threshold / 3 for rotations (Analyse(double)); Analyse(DegeneracyCriterion) sets both ratios
+// and also requires the direction's information to be below a ceiling per block (the odometry
+// uses 1.3 for translations and leaves rotations unflagged: LidarOdometryOptions). The ratios are invariant to a global scaling of H (sigma, N, the
 // number of points). With noisy range the fitted plane normals tilt, which adds about
 // (tilt / sigma)^2 of information per row along a corridor axis: that made the old absolute test
 // (eigenvalue of H_n < 0.3) miss corridors at 2 cm noise, but it stays a small fraction of the
@@ -34,6 +36,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 #include "plucker/geometry/se3.h"
 
@@ -57,6 +60,20 @@ struct DegeneracyInfo {
   Eigen::Vector3d rotation_ratios = Eigen::Vector3d::Zero();
   Eigen::Vector3d translation_ratios = Eigen::Vector3d::Zero();
   Matrix6d information = Matrix6d::Zero();  // H_n
+  // Which block directions (columns of *_directions) are flagged.
+  Eigen::Vector3i rotation_flags = Eigen::Vector3i::Zero();
+  Eigen::Vector3i translation_flags = Eigen::Vector3i::Zero();
+};
+
+// A direction of a block is flagged when its eigen-gap ratio is below the block's ratio AND its
+// information (Schur-complement eigenvalue of H_n) is below the block's absolute ceiling. The
+// ceiling keeps a scene whose ground plane dominates (an open square with facades far away) from
+// being flagged although every direction is well determined in absolute terms.
+struct DegeneracyCriterion {
+  double translation_ratio = 0.03;
+  double rotation_ratio = 0.01;
+  double max_translation_information = std::numeric_limits<double>::infinity();  // 1/sigma^2
+  double max_rotation_information = std::numeric_limits<double>::infinity();     // m^2/sigma^2
 };
 
 // Accumulates J^T J of residual rows (tangent Jacobians) and analyses it.
@@ -74,6 +91,7 @@ class NormalEquations {
   // RotationThreshold(threshold) (rotations); unit-free, default 0.03. No rows, or a non-finite
   // H: every direction is flagged.
   DegeneracyInfo Analyse(double threshold) const;
+  DegeneracyInfo Analyse(const DegeneracyCriterion& criterion) const;
 
  private:
   Matrix6d H_ = Matrix6d::Zero();
@@ -83,10 +101,9 @@ class NormalEquations {
 // The threshold applied to rotation ratios: threshold / 3 (see above).
 double RotationThreshold(double threshold);
 
-// Solution remapping (see above) along the directions flagged with `threshold` (pass the
-// threshold given to Analyse). Returns T_solution when none is.
-SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const DegeneracyInfo& info,
-                   double threshold);
+// Solution remapping (see above) along the directions flagged in `info`. Returns T_solution
+// when none is.
+SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const DegeneracyInfo& info);
 
 }  // namespace lidar
 }  // namespace plucker

@@ -37,7 +37,7 @@ TEST(DegeneracyTest, RemappingKeepsThePriorAlongTheDegenerateAxis) {
   const DegeneracyInfo info = Corridor(prior).Analyse(1e-3);
   const SE3d solution(ExpSO3<double>(Eigen::Vector3d(0.0, 0.0, 0.01)),
                       Eigen::Vector3d(3.0, 0.2, -0.1));
-  const SE3d remapped = RemapSolution(prior, solution, info, 1e-3);
+  const SE3d remapped = RemapSolution(prior, solution, info);
   EXPECT_NEAR(remapped.translation().x(), 1.0, 1e-9);  // prior kept along x
   EXPECT_NEAR(remapped.translation().y(), 0.2, 1e-9);  // solution kept elsewhere
   EXPECT_NEAR(remapped.translation().z(), -0.1, 1e-9);
@@ -45,7 +45,7 @@ TEST(DegeneracyTest, RemappingKeepsThePriorAlongTheDegenerateAxis) {
   // Not degenerate: the solution is returned unchanged.
   DegeneracyInfo fine = info;
   fine.degenerate = false;
-  EXPECT_NEAR(RemapSolution(prior, solution, fine, 1e-3).translation().x(), 3.0, 1e-12);
+  EXPECT_NEAR(RemapSolution(prior, solution, fine).translation().x(), 3.0, 1e-12);
 }
 
 // The normal equations use tangent Jacobians d r / d (dtheta, dt) written by hand: compare
@@ -174,6 +174,50 @@ TEST(DegeneracyTest, NoisyStreetIsNotFlagged) {
   }
 }
 
+// The odometry's default criterion (LidarOdometryOptions): ratio 0.03 and a ceiling of 1.3 on the
+// translation information per row; rotations off.
+DegeneracyCriterion DefaultCriterion() {
+  DegeneracyCriterion c;
+  c.translation_ratio = 0.03;
+  c.max_translation_information = 1.3;
+  c.rotation_ratio = 0.0;
+  return c;
+}
+
+// An open square: the ground dominates (97 % of the rows) and a few facades far away fix x and
+// y. Relative to the ground's z the horizontal directions are weak (ratio < 0.03), but each row
+// still carries ~6 (1/sigma^2) of horizontal information: the ceiling keeps them unflagged.
+// The noisy corridor's axis stays below the ceiling and is flagged.
+TEST(DegeneracyTest, CeilingSeparatesAnOpenSquareFromANoisyCorridor) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  NormalEquations square;
+  for (int i = 0; i < 3000; ++i) {
+    if (i % 100 < 97) {
+      AddTiltedPlane({30 * u(rng), 30 * u(rng), -1.7}, {0, 0, 1}, 0.02, &rng, &square);
+    } else {
+      const double angle = 3.14159 * u(rng);
+      const Eigen::Vector3d m(-std::cos(angle), -std::sin(angle), 0.0);
+      AddTiltedPlane(-40.0 * m + Eigen::Vector3d(0, 0, 3 * u(rng)), m, 0.02, &rng, &square);
+    }
+  }
+  const DegeneracyInfo ratio_only = square.Analyse(0.03);
+  EXPECT_GE(ratio_only.num_degenerate_translations, 2) << ratio_only.translation_ratios.transpose();
+  const DegeneracyInfo with_ceiling = square.Analyse(DefaultCriterion());
+  EXPECT_FALSE(with_ceiling.degenerate) << with_ceiling.translation_information.transpose();
+  EXPECT_GT(with_ceiling.translation_information(0), 1.3);
+
+  for (double tilt : {0.005, 0.015, 0.03}) {
+    const DegeneracyInfo corridor = NoisyCorridor(tilt, 1).Analyse(DefaultCriterion());
+    SCOPED_TRACE(::testing::Message() << "tilt " << tilt);
+    EXPECT_EQ(corridor.num_degenerate_translations, 1)
+        << corridor.translation_information.transpose();
+    EXPECT_EQ(corridor.num_degenerate_rotations, 0);
+    EXPECT_EQ(corridor.translation_flags(0), 1);
+    EXPECT_GT(std::abs(corridor.translation_directions(0, 0)), 0.99);
+  }
+}
+
 // The criterion is relative: scaling H (sigma, number of points) changes nothing.
 TEST(DegeneracyTest, CriterionIsInvariantToScalingH) {
   std::mt19937 rng(5);
@@ -203,8 +247,8 @@ TEST(DegeneracyTest, CriterionIsInvariantToScalingH) {
   // Same remapped pose.
   const SE3d prior(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0));
   const SE3d solution(ExpSO3<double>(Eigen::Vector3d(0.01, -0.02, 0.03)), Eigen::Vector3d(2, 1, 0));
-  const Vector6d da = RemapSolution(prior, solution, ia, 0.03).Minus(prior);
-  const Vector6d db = RemapSolution(prior, solution, ib, 0.03).Minus(prior);
+  const Vector6d da = RemapSolution(prior, solution, ia).Minus(prior);
+  const Vector6d db = RemapSolution(prior, solution, ib).Minus(prior);
   EXPECT_LT((da - db).norm(), 1e-6);
 }
 
@@ -233,7 +277,7 @@ TEST(DegeneracyTest, RoundTunnelAndSinglePlane) {
   // Remapping keeps the prior along all three and the solution elsewhere.
   const SE3d prior(ExpSO3<double>(Eigen::Vector3d(0, 0, 0.1)), Eigen::Vector3d(1, 2, 3));
   const SE3d solution(ExpSO3<double>(Eigen::Vector3d(0.01, 0.02, 0.3)), Eigen::Vector3d(4, 5, 6));
-  const Vector6d d = RemapSolution(prior, solution, p, 0.03).Minus(prior);
+  const Vector6d d = RemapSolution(prior, solution, p).Minus(prior);
   const Vector6d d_solution = solution.Minus(prior);
   for (int i = 0; i < 2; ++i)  // the prior exactly along the flagged (noisy) directions
     EXPECT_NEAR(p.translation_directions.col(i).dot(d.tail<3>()), 0.0, 1e-9);
@@ -250,7 +294,7 @@ TEST(DegeneracyTest, RemappingIsTheConstrainedMinimiserOfTheQuadraticModel) {
   const SE3d prior;
   const Vector6d delta = (Vector6d() << 0.01, -0.02, 0.005, 0.8, 0.1, -0.05).finished();
   const SE3d solution = prior.Plus(delta);
-  const Vector6d d = RemapSolution(prior, solution, info, 0.03).Minus(prior);
+  const Vector6d d = RemapSolution(prior, solution, info).Minus(prior);
   const Eigen::Vector3d v = info.translation_directions.col(0);
   EXPECT_NEAR(v.dot(d.tail<3>()), 0.0, 1e-9);
   // Stationarity of (d - delta)^T H (d - delta) on the constraint surface: the gradient
@@ -268,7 +312,7 @@ TEST(DegeneracyTest, NonFiniteInputFlagsEverythingAndKeepsThePrior) {
   EXPECT_TRUE(info.degenerate);
   EXPECT_EQ(info.num_degenerate_directions, 6);
   const SE3d prior(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 2, 3));
-  const SE3d remapped = RemapSolution(prior, SE3d(), info, 0.03);
+  const SE3d remapped = RemapSolution(prior, SE3d(), info);
   EXPECT_LT((remapped.translation() - prior.translation()).norm(), 1e-12);
 }
 

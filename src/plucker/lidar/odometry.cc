@@ -331,9 +331,13 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
       for (const PlaneMatch& m : impl_->planes)
         normal.AddPlane(T_solved, m.p_s, m.m_w, o.plane_sigma);
       for (const EdgeMatch& m : impl_->edges) normal.AddEdge(T_solved, m.p_s, m.u_w, o.edge_sigma);
-      result.degeneracy = normal.Analyse(o.degeneracy_threshold);
-      if (o.handle_degeneracy)
-        T_solved = RemapSolution(T_pred, T_solved, result.degeneracy, o.degeneracy_threshold);
+      DegeneracyCriterion criterion;
+      criterion.translation_ratio = o.degeneracy_threshold;
+      criterion.rotation_ratio = o.degeneracy_rotation_threshold;
+      criterion.max_translation_information = o.degeneracy_max_translation_information;
+      criterion.max_rotation_information = o.degeneracy_max_rotation_information;
+      result.degeneracy = normal.Analyse(criterion);
+      if (o.handle_degeneracy) T_solved = RemapSolution(T_pred, T_solved, result.degeneracy);
       const Vector6d step = T_solved.Minus(T);
       T = T_solved;
       registered = true;

@@ -69,10 +69,18 @@ struct LidarOdometryOptions {
   int max_edge_points = 1000;              // cap on edge points used per scan (stride sampling)
   int max_plane_points = 3000;             // cap on plane points used per scan
   int min_correspondences = 30;            // fewer -> the scan keeps the predicted pose
-  double degeneracy_threshold = 0.03;      // unit-free eigen-gap ratio (see degeneracy.h)
-  bool handle_degeneracy = true;           // remap the solution along degenerate directions
-  bool constant_velocity = true;           // else the prediction is the previous pose
-  int map_cleanup_every = 10;              // frames between RemoveFar calls
+  // Degeneracy (see degeneracy.h): a direction is flagged when its eigen-gap ratio is below the
+  // threshold of its block AND its information per residual row is below the ceiling of its
+  // block (corridors: <= 0.9; well-constrained urban frames with a dominant ground: >= 2.05,
+  // measured at the default sigmas). Rotation flags are off by default: in the simulated streets
+  // they flagged yaw that was well determined and the remapped poses drifted.
+  double degeneracy_threshold = 0.03;                   // translation eigen-gap ratio
+  double degeneracy_max_translation_information = 1.3;  // 1/sigma^2 per row
+  double degeneracy_rotation_threshold = 0.0;           // rotation eigen-gap ratio (0: off)
+  double degeneracy_max_rotation_information = 1e300;   // m^2/sigma^2 per row
+  bool handle_degeneracy = true;  // remap the solution along degenerate directions
+  bool constant_velocity = true;  // else the prediction is the previous pose
+  int map_cleanup_every = 10;     // frames between RemoveFar calls
   int num_threads = 1;  // threads (TBB) for features and correspondences; > 1: wall-clock timings
 };
 
