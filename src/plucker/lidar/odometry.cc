@@ -150,6 +150,15 @@ class LidarOdometry::Impl {
   std::vector<EdgeMatch> edges;
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
   int frames_since_cleanup = 0;
+
+  // The scan that seeded the map when it could not be deskewed (no motion known yet), kept raw
+  // until the next scan is registered: then it is deskewed with that motion and the map rebuilt.
+  struct Seed {
+    SE3d T_w_s;
+    std::vector<Eigen::Vector3d> edges, planes;
+    std::vector<double> edge_times, plane_times;
+  };
+  std::optional<Seed> seed;
 };
 
 LidarOdometry::LidarOdometry(const LidarOdometryOptions& options)
@@ -236,7 +245,11 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   StrideSample(o.max_plane_points, &features.planes, &features.plane_times);
   // Deskew: the feature points are moved to the scan-start frame with the motion over this
   // sweep, T_{k-1}^-1 T (constant velocity), re-done with the current estimate in every round.
-  const bool can_deskew = deskew && !poses_.empty();
+  // While the map holds the raw seed scan (below), scans register raw against it: both are
+  // distorted alike by the sweep, which biases the estimate less than a deskewed scan against a
+  // raw map.
+  const bool seed_pending = impl_->seed.has_value();
+  const bool can_deskew = deskew && !poses_.empty() && !seed_pending;
   const std::vector<Eigen::Vector3d> raw_edges =
       can_deskew ? features.edges : std::vector<Eigen::Vector3d>();
   const std::vector<Eigen::Vector3d> raw_planes =
@@ -357,6 +370,28 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   result.T_w_s = registered ? T : T_pred;
   if (registered || edge_map_.NumPoints() + plane_map_.NumPoints() <
                         static_cast<std::size_t>(o.min_correspondences)) {
+    if (deskew && !can_deskew && !seed_pending)
+      impl_->seed =
+          Impl::Seed{result.T_w_s, edge_pts, plane_pts, features.edge_times, features.plane_times};
+    if (registered && !first && seed_pending) {
+      // The sweep motion of the seed scan and of this one, by constant velocity: the motion
+      // between them. Both are deskewed with it and the map is rebuilt from them.
+      Impl::Seed& seed = *impl_->seed;
+      const SE3d motion = seed.T_w_s.Inverse() * result.T_w_s;
+      DeskewPoints(motion, o.features.scan_period, seed.edge_times, &seed.edges);
+      DeskewPoints(motion, o.features.scan_period, seed.plane_times, &seed.planes);
+      DeskewPoints(motion, o.features.scan_period, features.edge_times, &edge_pts);
+      DeskewPoints(motion, o.features.scan_period, features.plane_times, &plane_pts);
+      result.deskewed = true;
+      for (auto& p : seed.edges) p = seed.T_w_s * p;
+      for (auto& p : seed.planes) p = seed.T_w_s * p;
+      edge_map_.Clear();
+      plane_map_.Clear();
+      edge_map_.AddPoints(seed.edges);
+      plane_map_.AddPoints(seed.planes);
+      impl_->seed.reset();
+      result.map_rebuilt = true;
+    }
     const Eigen::Matrix3d R = result.T_w_s.RotationMatrix();
     const Eigen::Vector3d t = result.T_w_s.translation();
     for (auto& p : edge_pts) p = R * p + t;

@@ -18,7 +18,9 @@
 //      Levenberg-Marquardt iterations on the pose, lidar/pose_solver.h), then remap the solution
 //      along degenerate directions;
 //   5. the downsampled features, in the world frame, enter the maps; voxels farther than
-//      map max_distance from the sensor are dropped.
+//      map max_distance from the sensor are dropped. When deskewing, the first scan cannot be
+//      deskewed (no motion yet): it seeds the map raw and, once the second scan is registered,
+//      is deskewed with that motion and the map is rebuilt from it and the second scan.
 #pragma once
 
 #include <memory>
@@ -107,6 +109,7 @@ struct FrameResult {
   double final_cost = 0.0;
   DegeneracyInfo degeneracy;
   bool deskewed = false;
+  bool map_rebuilt = false;  // the seed scan, now deskewable, replaced its raw points in the map
   std::size_t map_points = 0;
   FrameTimings timing;
 };
