@@ -143,7 +143,7 @@ void LoadConfig(const std::string& path, lidar::LidarOdometryOptions* o, double*
   b.Bool("registration.constant_velocity", &o->constant_velocity);
   b.Number("degeneracy.threshold", &o->degeneracy_threshold);
   b.Number("degeneracy.rotation_threshold", &o->degeneracy_rotation_threshold);
-  b.Number("degeneracy.max_translation_information", &o->degeneracy_max_translation_information);
+  b.Number("degeneracy.max_normal_alignment", &o->degeneracy_max_normal_alignment);
   b.Number("degeneracy.max_rotation_information", &o->degeneracy_max_rotation_information);
   b.Bool("degeneracy.handle", &o->handle_degeneracy);
   b.Text("deskew", "auto, on or off",

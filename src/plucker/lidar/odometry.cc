@@ -347,7 +347,8 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
       DegeneracyCriterion criterion;
       criterion.translation_ratio = o.degeneracy_threshold;
       criterion.rotation_ratio = o.degeneracy_rotation_threshold;
-      criterion.max_translation_information = o.degeneracy_max_translation_information;
+      criterion.max_translation_information =
+          o.degeneracy_max_normal_alignment / (o.plane_sigma * o.plane_sigma);
       criterion.max_rotation_information = o.degeneracy_max_rotation_information;
       result.degeneracy = normal.Analyse(criterion);
       if (o.handle_degeneracy) T_solved = RemapSolution(T_pred, T_solved, result.degeneracy);

@@ -76,10 +76,13 @@ struct LidarOdometryOptions {
   // block (corridors: <= 0.9; well-constrained urban frames with a dominant ground: >= 2.05,
   // measured at the default sigmas). Rotation flags are off by default: in the simulated streets
   // they flagged yaw that was well determined and the remapped poses drifted.
-  double degeneracy_threshold = 0.03;                   // translation eigen-gap ratio
-  double degeneracy_max_translation_information = 1.3;  // 1/sigma^2 per row
-  double degeneracy_rotation_threshold = 0.0;           // rotation eigen-gap ratio (0: off)
-  double degeneracy_max_rotation_information = 1e300;   // m^2/sigma^2 per row
+  double degeneracy_threshold = 0.03;  // translation eigen-gap ratio
+  // Ceiling in units of plane_sigma^2: the mean squared component along the direction of the
+  // rows' (plane) normals, 0.00325 ~ (3.3 deg)^2; the criterion uses it / plane_sigma^2
+  // (1.3 at the default 5 cm), so it does not change with plane_sigma.
+  double degeneracy_max_normal_alignment = 0.00325;
+  double degeneracy_rotation_threshold = 0.0;          // rotation eigen-gap ratio (0: off)
+  double degeneracy_max_rotation_information = 1e300;  // m^2/sigma^2 per row
   bool handle_degeneracy = true;  // remap the solution along degenerate directions
   bool constant_velocity = true;  // else the prediction is the previous pose
   int map_cleanup_every = 10;     // frames between RemoveFar calls
