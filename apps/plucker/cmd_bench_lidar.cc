@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/lidar/odometry.h"
@@ -39,8 +40,7 @@ std::vector<std::array<double, kStages>> RunOnce(const io::LidarSequence& seq, i
                                                  int threads) {
   lidar::LidarOdometryOptions options;
   options.num_threads = threads;
-  if (seq.format() == io::LidarSequence::Format::kPcd)
-    options.ring_source = lidar::RingSource::kAutoElevation;
+  AdaptToSequence(seq, &options);
   lidar::LidarOdometry odometry(options);
   std::vector<std::array<double, kStages>> out;
   for (int i = 0; i < frames; ++i) {

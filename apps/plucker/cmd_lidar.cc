@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/ply.h"
@@ -217,9 +218,7 @@ int RunLidar(const LidarArgs& a) {
 
   const io::LidarSequence seq = io::LidarSequence::Open(a.data, a.sequence);
   CheckOutputs(a, seq);
-  if (seq.format() == io::LidarSequence::Format::kPcd &&
-      options.ring_source == lidar::RingSource::kAuto)
-    options.ring_source = lidar::RingSource::kAutoElevation;
+  AdaptToSequence(seq, &options);
   bool to_cam0 = a.frame == "cam0" && seq.T_cam0_velo().has_value();
   if (!a.quiet) std::cerr << "plucker lidar: " << seq.description() << "\n";
   if (a.frame == "cam0" && !to_cam0) {

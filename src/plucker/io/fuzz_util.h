@@ -3,6 +3,7 @@
 // build. Not part of the library API.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +20,14 @@ inline void Check(bool ok, const char* what) {
   if (!ok) {
     std::fprintf(stderr, "fuzz invariant violated: %s\n", what);
     std::abort();
+  }
+}
+
+// Timestamps a reader accepted must be finite and non-decreasing.
+inline void CheckTimes(const std::vector<double>& times) {
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    Check(std::isfinite(times[i]), "non-finite time");
+    Check(i == 0 || times[i] >= times[i - 1], "decreasing time");
   }
 }
 
@@ -77,3 +86,18 @@ inline void WriteSeedsFromEnv(const char* prefix, const std::vector<std::string>
 }  // namespace fuzz
 }  // namespace io
 }  // namespace plucker
+
+// The libFuzzer entry points of one target (built with PLUCKER_LIBFUZZER): the seeds written on
+// request, then `one_input` (a function in plucker::io::fuzz) on every input.
+#ifdef PLUCKER_LIBFUZZER
+#define PLUCKER_FUZZ_TARGET(prefix, seeds, one_input)                                 \
+  extern "C" int LLVMFuzzerInitialize(int*, char***) {                                \
+    plucker::io::fuzz::WriteSeedsFromEnv(prefix, plucker::io::fuzz::seeds());         \
+    return 0;                                                                         \
+  }                                                                                   \
+  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
+    return plucker::io::fuzz::one_input(data, size);                                  \
+  }
+#else
+#define PLUCKER_FUZZ_TARGET(prefix, seeds, one_input)
+#endif

@@ -43,11 +43,7 @@ int KittiBinOneInput(const std::uint8_t* data, std::size_t size) {
   } catch (const IoError&) {
   }
   try {
-    const std::vector<double> t = ParseKittiTimes(bytes, "fuzz_times.txt");
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      Check(std::isfinite(t[i]), "times: non-finite");
-      Check(i == 0 || t[i] >= t[i - 1], "times: decreasing");
-    }
+    CheckTimes(ParseKittiTimes(bytes, "fuzz_times.txt"));
   } catch (const IoError&) {
   }
   return 0;
@@ -57,12 +53,4 @@ int KittiBinOneInput(const std::uint8_t* data, std::size_t size) {
 }  // namespace io
 }  // namespace plucker
 
-#ifdef PLUCKER_LIBFUZZER
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  plucker::io::fuzz::WriteSeedsFromEnv("kitti_bin", plucker::io::fuzz::KittiBinSeeds());
-  return 0;
-}
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  return plucker::io::fuzz::KittiBinOneInput(data, size);
-}
-#endif
+PLUCKER_FUZZ_TARGET("kitti_bin", KittiBinSeeds, KittiBinOneInput)

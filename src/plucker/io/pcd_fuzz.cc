@@ -79,12 +79,4 @@ int PcdOneInput(const std::uint8_t* data, std::size_t size) {
 }  // namespace io
 }  // namespace plucker
 
-#ifdef PLUCKER_LIBFUZZER
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  plucker::io::fuzz::WriteSeedsFromEnv("pcd", plucker::io::fuzz::PcdSeeds());
-  return 0;
-}
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  return plucker::io::fuzz::PcdOneInput(data, size);
-}
-#endif
+PLUCKER_FUZZ_TARGET("pcd", PcdSeeds, PcdOneInput)

@@ -30,10 +30,7 @@ int PoseOneInput(const std::uint8_t* data, std::size_t size) {
         Check(T.translation().allFinite() && T.rotation().coeffs().allFinite(), "non-finite pose");
         Check(std::abs(T.rotation().norm() - 1.0) < 1e-6, "quaternion not unit");
       }
-      for (std::size_t i = 0; i < tr.times.size(); ++i) {
-        Check(std::isfinite(tr.times[i]), "non-finite time");
-        Check(i == 0 || tr.times[i] >= tr.times[i - 1], "decreasing time");
-      }
+      CheckTimes(tr.times);
     } catch (const IoError&) {
     }
   }
@@ -44,12 +41,4 @@ int PoseOneInput(const std::uint8_t* data, std::size_t size) {
 }  // namespace io
 }  // namespace plucker
 
-#ifdef PLUCKER_LIBFUZZER
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  plucker::io::fuzz::WriteSeedsFromEnv("pose", plucker::io::fuzz::PoseSeeds());
-  return 0;
-}
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  return plucker::io::fuzz::PoseOneInput(data, size);
-}
-#endif
+PLUCKER_FUZZ_TARGET("pose", PoseSeeds, PoseOneInput)

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "plucker/lidar/fast_atan2.h"
 #include "plucker/lidar/voxel_key.h"

@@ -64,13 +64,6 @@ inline Scene UrbanScene() {
     const double x = -70 + 140 * u(rng), y = (i % 2 ? 1 : -1) * (5 + 2 * u(rng));
     s.boxes.push_back({Eigen::Vector3d(x, y, -1.8), Eigen::Vector3d(x + 0.3, y + 0.3, 4)});
   }
-  // Walls across the pavements (6 m long, 0.5 m thick): surfaces facing along the road, which a
-  // street has (side streets, fences, car backs) and which constrain the along-track translation
-  // well above the noise floor of a corridor (lidar/degeneracy.h).
-  for (int i = 0; i < 12; ++i) {
-    const double x = -70 + 140 * u(rng), y0 = i % 2 ? 8.0 : -14.0;
-    s.boxes.push_back({Eigen::Vector3d(x, y0, -1.8), Eigen::Vector3d(x + 0.5, y0 + 6.0, 3)});
-  }
   return s;
 }
 
