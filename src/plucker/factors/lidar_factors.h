@@ -2,21 +2,22 @@
 // PoseManifold, tangent (dtheta, dt) with R <- R Exp(dtheta), t <- t + dt).
 //
 // A scan point p_s is mapped to the world by p_w = R p_s + t. The residuals (docs/math/
-// lidar-and-point-factors.md derives each Jacobian):
-//   PointToPlaneFactor       r = m_w . (p_w - q_w) / sigma                      (1, signed
-//   distance) PointToEdgeFactor        r = Y / sigma, Y = (p_w - b) x (p_w - a) / |a - b| (3, |Y| =
-//   distance)
-//                              = u x (p_w - a),  u = (a - b)/|a - b|
-//   PointToEdge2Factor       r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma        (2, |r| =
-//   distance)
-//                              e1, e2 orthonormal, both orthogonal to u (fixed at construction)
-//   PointToEdgeScalarFactor  r = |Y| / sigma  (classic LOAM; kink at zero distance, comparison
-//   only)
+// lidar-and-point-factors.md derives each Jacobian), with u = (a - b)/|a - b| the unit direction
+// of the edge through a and b, and Y = (p_w - b) x (p_w - a)/|a - b| = u x (p_w - a):
+//
+//   factor                   rows  residual r                                sigma |r|
+//   PointToPlaneFactor       1     m_w . (p_w - q_w) / sigma                 signed distance
+//   PointToEdgeFactor        3     Y / sigma                                 distance
+//   PointToEdge2Factor       2     E (p_w - a) / sigma, E = [e1^T; e2^T]     distance
+//                                  (e1, e2 orthonormal, orthogonal to u)
+//   PointToEdgeScalarFactor  1     |Y| / sigma (classic LOAM, comparison     distance
+//                                  only: kink at zero distance)
 //
 // Jacobians are written w.r.t. the AMBIENT 7 parameters: J_ambient = J_tangent * MinusJacobian(x)
-// (the exact derivative of the same residual with the quaternion normalised). Every Create() has a
-// CreateAutoDiff() twin (ceres::AutoDiffCostFunction over the templated functors below, which
-// normalise the quaternion) used as the test reference and the benchmark baseline.
+// (pose_block::WriteAmbient; the exact derivative of the same residual with the quaternion
+// normalised). Every Create() has a CreateAutoDiff() twin (ceres::AutoDiffCostFunction over the
+// templated functors below, which normalise the quaternion) used as the test reference and the
+// benchmark baseline.
 //
 // Construction errors: Create/CreateAutoDiff throw std::invalid_argument for non-finite inputs,
 // a == b (|a - b| <= 1e-12 (1 + max(|a|, |b|))), a normal whose norm is not within 1e-6 of one

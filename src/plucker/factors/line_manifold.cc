@@ -6,16 +6,13 @@
 
 namespace plucker {
 
-namespace {
-// Finite, with a non-zero quaternion and a non-zero W.
-bool IsUsable(const double* x) {
+bool IsUsableLineBlock(const double* x) {
   for (int i = 0; i < 6; ++i)
     if (!std::isfinite(x[i])) return false;
   const double q_sq = x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3];
   const double w_sq = x[4] * x[4] + x[5] * x[5];
   return q_sq > 0.0 && w_sq > 0.0 && std::isfinite(q_sq) && std::isfinite(w_sq);
 }
-}  // namespace
 
 Eigen::Matrix<double, 6, 4> LinePlusJacobian(const double* x) {
   const OrthonormalLine line = OrthonormalLine::FromParameters(x);
@@ -37,7 +34,7 @@ Eigen::Matrix<double, 4, 6> LineMinusJacobian(const double* x) {
 }
 
 bool LineManifold::Plus(const double* x, const double* delta, double* x_plus_delta) const {
-  if (!IsUsable(x)) return false;
+  if (!IsUsableLineBlock(x)) return false;
   for (int i = 0; i < 4; ++i)
     if (!std::isfinite(delta[i])) return false;
   OrthonormalLine::FromParameters(x)
@@ -47,21 +44,21 @@ bool LineManifold::Plus(const double* x, const double* delta, double* x_plus_del
 }
 
 bool LineManifold::PlusJacobian(const double* x, double* jacobian) const {
-  if (!IsUsable(x)) return false;
+  if (!IsUsableLineBlock(x)) return false;
   Eigen::Map<Eigen::Matrix<double, 6, 4, Eigen::RowMajor>> J(jacobian);
   J = LinePlusJacobian(x);
   return true;
 }
 
 bool LineManifold::Minus(const double* y, const double* x, double* y_minus_x) const {
-  if (!IsUsable(x) || !IsUsable(y)) return false;
+  if (!IsUsableLineBlock(x) || !IsUsableLineBlock(y)) return false;
   Eigen::Map<Eigen::Vector4d> out(y_minus_x);
   out = OrthonormalLine::FromParameters(y).Minus(OrthonormalLine::FromParameters(x));
   return true;
 }
 
 bool LineManifold::MinusJacobian(const double* x, double* jacobian) const {
-  if (!IsUsable(x)) return false;
+  if (!IsUsableLineBlock(x)) return false;
   Eigen::Map<Eigen::Matrix<double, 4, 6, Eigen::RowMajor>> J(jacobian);
   J = LineMinusJacobian(x);
   return true;

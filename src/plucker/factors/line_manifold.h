@@ -23,6 +23,10 @@ class LineManifold final : public ceres::Manifold {
   bool MinusJacobian(const double* x, double* jacobian) const override;
 };
 
+// Finite, with a non-zero quaternion and a non-zero W: the blocks the manifold and the line
+// factors accept.
+bool IsUsableLineBlock(const double* x);
+
 // The same Jacobians as Eigen matrices (x need not be normalised; it is normalised first).
 Eigen::Matrix<double, 6, 4> LinePlusJacobian(const double* x);
 Eigen::Matrix<double, 4, 6> LineMinusJacobian(const double* x);

@@ -4,41 +4,27 @@
 #include <stdexcept>
 
 #include "plucker/factors/line_manifold.h"
+#include "plucker/factors/pose_block.h"
 
 namespace plucker {
 
 namespace {
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using RowMajor2x7 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
 using RowMajor2x6 = Eigen::Matrix<double, 2, 6, Eigen::RowMajor>;
 
-bool AllFinite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
+// The pose block as T_a_b (pose_block::Read) and its inverse T_b_a.
+bool ReadPose(const double* x, SE3d* T_a_b, SE3d* T_b_a) {
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+  if (!pose_block::Read(x, &q, nullptr, &t)) return false;
+  *T_a_b = SE3d(q, t);
+  *T_b_a = T_a_b->Inverse();
   return true;
 }
 
-// A finite pose block with a non-zero quaternion.
-bool UsablePose(const double* p) {
-  if (!AllFinite(p, 7)) return false;
-  const double q_sq = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
-  return q_sq > 0.0 && std::isfinite(q_sq);
-}
-
-bool UsableLine(const double* p) {
-  if (!AllFinite(p, 6)) return false;
-  const double q_sq = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
-  const double w_sq = p[4] * p[4] + p[5] * p[5];
-  return q_sq > 0.0 && w_sq > 0.0 && std::isfinite(q_sq) && std::isfinite(w_sq);
-}
-
-// d Minus(y, x)/d y of the pose manifold at x (6x7), for a normalised quaternion.
-Eigen::Matrix<double, 6, 7> PoseMinusJacobian(const SE3d& pose) {
-  Eigen::Matrix<double, 6, 7> J = Eigen::Matrix<double, 6, 7>::Zero();
-  J.block<3, 4>(0, 0) = QuaternionRightMinusJacobian(pose.rotation());
-  J.block<3, 3>(3, 4).setIdentity();
-  return J;
+// Writes the ambient 2x7 Jacobian of a pose block from its 2x6 tangent Jacobian.
+void WritePoseJacobian(const Eigen::Matrix<double, 2, 6>& J, const SE3d& T, double* jacobian) {
+  pose_block::WriteAmbient<2>(J.leftCols<3>(), J.rightCols<3>(), T.rotation(), jacobian);
 }
 
 // The residual of a camera-frame line and, if d_r_d_Lc is given, its 2x6 Jacobian (weighted).
@@ -97,24 +83,23 @@ ceres::CostFunction* LineReprojectionFactor::CreateAutoDiff(
 
 bool LineReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
                                       double** jacobians) const {
-  if (!UsablePose(parameters[0]) || !UsableLine(parameters[1])) return false;
-  const SE3d T_w_c = SE3d::FromParameters(parameters[0]);
-  const OrthonormalLine line = OrthonormalLine::FromParameters(parameters[1]);
   const bool want_pose = jacobians && jacobians[0];
   const bool want_line = jacobians && jacobians[1];
+  SE3d T_w_c, T_c_w;
+  if (!ReadPose(parameters[0], &T_w_c, &T_c_w) || !IsUsableLineBlock(parameters[1])) return false;
+  const OrthonormalLine line = OrthonormalLine::FromParameters(parameters[1]);
 
   Eigen::Matrix<double, 6, 4> d_Lw_d_delta;
   const Line6d L_w = PluckerFromOrthonormal(line, want_line ? &d_Lw_d_delta : nullptr);
-  Matrix6d d_Lc_d_Twc, d_Lc_d_Lw;
-  const Line6d L_c = LineWorldToCamera(T_w_c, L_w, want_pose ? &d_Lc_d_Twc : nullptr,
-                                       want_line ? &d_Lc_d_Lw : nullptr);
+  Matrix6d d_Lc_d_Lw, d_Lc_d_Twc;
+  const Line6d L_c = TransformLine(T_c_w, L_w, nullptr, want_line ? &d_Lc_d_Lw : nullptr,
+                                   want_pose ? &d_Lc_d_Twc : nullptr);
   Eigen::Matrix<double, 2, 6> d_r_d_Lc;
   if (!ResidualFromCameraLine(obs_, L_c, residuals, jacobians ? &d_r_d_Lc : nullptr)) {
     return false;
   }
   if (want_pose) {
-    const Eigen::Matrix<double, 2, 6> J_tangent = d_r_d_Lc * d_Lc_d_Twc;
-    Eigen::Map<RowMajor2x7>{jacobians[0]} = J_tangent * PoseMinusJacobian(T_w_c);
+    WritePoseJacobian(d_r_d_Lc * d_Lc_d_Twc, T_w_c, jacobians[0]);
   }
   if (want_line) {
     const Eigen::Matrix<double, 2, 4> J_tangent = d_r_d_Lc * d_Lc_d_Lw * d_Lw_d_delta;
@@ -141,34 +126,33 @@ ceres::CostFunction* LineReprojectionFactorVI::CreateAutoDiff(
 
 bool LineReprojectionFactorVI::Evaluate(double const* const* parameters, double* residuals,
                                         double** jacobians) const {
-  if (!UsablePose(parameters[0]) || !UsablePose(parameters[1]) || !UsableLine(parameters[2])) {
-    return false;
-  }
-  const SE3d T_w_b = SE3d::FromParameters(parameters[0]);
-  const SE3d T_b_c = SE3d::FromParameters(parameters[1]);
-  const OrthonormalLine line = OrthonormalLine::FromParameters(parameters[2]);
   const bool want_body = jacobians && jacobians[0];
   const bool want_extrinsic = jacobians && jacobians[1];
   const bool want_line = jacobians && jacobians[2];
+  SE3d T_w_b, T_b_w, T_b_c, T_c_b;
+  if (!ReadPose(parameters[0], &T_w_b, &T_b_w) || !ReadPose(parameters[1], &T_b_c, &T_c_b) ||
+      !IsUsableLineBlock(parameters[2])) {
+    return false;
+  }
+  const OrthonormalLine line = OrthonormalLine::FromParameters(parameters[2]);
 
   Eigen::Matrix<double, 6, 4> d_Lw_d_delta;
   const Line6d L_w = PluckerFromOrthonormal(line, want_line ? &d_Lw_d_delta : nullptr);
-  Matrix6d d_Lb_d_Twb, d_Lb_d_Lw, d_Lc_d_Tbc, d_Lc_d_Lb;
-  const Line6d L_b = LineWorldToCamera(T_w_b, L_w, want_body ? &d_Lb_d_Twb : nullptr,
-                                       want_line ? &d_Lb_d_Lw : nullptr);
-  const Line6d L_c = LineWorldToCamera(T_b_c, L_b, want_extrinsic ? &d_Lc_d_Tbc : nullptr,
-                                       (want_body || want_line) ? &d_Lc_d_Lb : nullptr);
+  Matrix6d d_Lb_d_Lw, d_Lb_d_Twb, d_Lc_d_Lb, d_Lc_d_Tbc;
+  const Line6d L_b = TransformLine(T_b_w, L_w, nullptr, want_line ? &d_Lb_d_Lw : nullptr,
+                                   want_body ? &d_Lb_d_Twb : nullptr);
+  const Line6d L_c =
+      TransformLine(T_c_b, L_b, nullptr, (want_body || want_line) ? &d_Lc_d_Lb : nullptr,
+                    want_extrinsic ? &d_Lc_d_Tbc : nullptr);
   Eigen::Matrix<double, 2, 6> d_r_d_Lc;
   if (!ResidualFromCameraLine(obs_, L_c, residuals, jacobians ? &d_r_d_Lc : nullptr)) {
     return false;
   }
   if (want_body) {
-    const Eigen::Matrix<double, 2, 6> J_tangent = d_r_d_Lc * d_Lc_d_Lb * d_Lb_d_Twb;
-    Eigen::Map<RowMajor2x7>{jacobians[0]} = J_tangent * PoseMinusJacobian(T_w_b);
+    WritePoseJacobian(d_r_d_Lc * d_Lc_d_Lb * d_Lb_d_Twb, T_w_b, jacobians[0]);
   }
   if (want_extrinsic) {
-    const Eigen::Matrix<double, 2, 6> J_tangent = d_r_d_Lc * d_Lc_d_Tbc;
-    Eigen::Map<RowMajor2x7>{jacobians[1]} = J_tangent * PoseMinusJacobian(T_b_c);
+    WritePoseJacobian(d_r_d_Lc * d_Lc_d_Tbc, T_b_c, jacobians[1]);
   }
   if (want_line) {
     const Eigen::Matrix<double, 2, 4> J_tangent = d_r_d_Lc * d_Lc_d_Lb * d_Lb_d_Lw * d_Lw_d_delta;

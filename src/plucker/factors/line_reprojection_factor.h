@@ -7,14 +7,15 @@
 // (signed endpoint-to-line distances, geometry/line_projection.h).
 //
 //   LineReprojectionFactor    (2 | 7, 6)     parameters T_w_c (pose block), line (line block);
-//                                            L_c = H(T_w_c^-1) L_w.
+//                                            L_c = TransformLine(T_c_w, L_w).
 //   LineReprojectionFactorVI  (2 | 7, 7, 6)  parameters T_w_b, T_b_c (extrinsic), line;
-//                                            L_c = H(T_b_c^-1) H(T_w_b^-1) L_w. T_b_c may be held
+//                                            L_b = TransformLine(T_b_w, L_w),
+//                                            L_c = TransformLine(T_c_b, L_b). T_b_c may be held
 //                                            constant (jacobians[1] == nullptr is honoured).
 //
 // Jacobians are written w.r.t. the AMBIENT parameters (7 per pose, 6 for the line): the tangent
 // Jacobian from the chain rule r <- l <- L_c <- (poses, L_w) <- (dtheta, dphi), times the
-// manifolds' MinusJacobian (factors/pose_manifold.h, factors/line_manifold.h). This equals the
+// manifolds' MinusJacobian (pose_block::WriteAmbient, factors/line_manifold.h). This equals the
 // exact derivative of the residual with normalised quaternions and W, which is what the autodiff
 // twins (CreateAutoDiff, functors below) compute.
 //
@@ -76,7 +77,7 @@ struct LineReprojectionResidual {
     using namespace line_factor_internal;
     if (HasZeroQuaternion(T_w_c) || IsDegenerateLineBlock(line)) return false;
     const Line6<T> L_w = PluckerFromOrthonormal<T>(line);
-    const Line6<T> L_c = LineWorldToCamera<T>(SE3<T>::FromParameters(T_w_c), L_w);
+    const Line6<T> L_c = TransformLine<T>(SE3<T>::FromParameters(T_w_c).Inverse(), L_w);
     return Finish<T>(L_c, residual);
   }
   template <typename T>
@@ -104,8 +105,8 @@ struct LineReprojectionResidualVI {
       return false;
     }
     const Line6<T> L_w = PluckerFromOrthonormal<T>(line);
-    const Line6<T> L_b = LineWorldToCamera<T>(SE3<T>::FromParameters(T_w_b), L_w);
-    const Line6<T> L_c = LineWorldToCamera<T>(SE3<T>::FromParameters(T_b_c), L_b);
+    const Line6<T> L_b = TransformLine<T>(SE3<T>::FromParameters(T_w_b).Inverse(), L_w);
+    const Line6<T> L_c = TransformLine<T>(SE3<T>::FromParameters(T_b_c).Inverse(), L_b);
     return base_.Finish<T>(L_c, residual);
   }
   LineReprojectionResidual base_;

@@ -5,10 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -304,22 +302,21 @@ ceres::Solver::Options TightOptions() {
 TEST(LineReprojectionFactor, RecoversCameraPoseFromLinesOnly) {
   const PinholeIntrinsics K = TestIntrinsics();
   Rng rng(8);
-  const SE3d T_w_c_true = LookAtOrigin(Eigen::Vector3d(2, -3, -7));
+  const SE3d T_w_c_gt = LookAtOrigin(Eigen::Vector3d(2, -3, -7));
   const std::vector<Segment> segments = RandomSegments(rng, 24);
   Eigen::Matrix<double, 6, 1> perturbation;
   perturbation << 0.05, -0.04, 0.03, 0.3, -0.2, 0.25;
-  std::vector<double> pose = PoseBlock(T_w_c_true.Plus(perturbation));
+  std::vector<double> pose = PoseBlock(T_w_c_gt.Plus(perturbation));
   std::vector<std::vector<double>> lines;
   for (const Segment& seg : segments) lines.push_back(LineBlock(seg.L()));
 
   ceres::Problem problem;
   problem.AddParameterBlock(pose.data(), 7, new PoseManifold);
   for (size_t i = 0; i < segments.size(); ++i) {
-    problem.AddResidualBlock(
-        LineReprojectionFactor::Create(K, Project(K, T_w_c_true, segments[i].a),
-                                       Project(K, T_w_c_true, segments[i].b),
-                                       Eigen::Matrix2d::Identity()),
-        nullptr, pose.data(), lines[i].data());
+    problem.AddResidualBlock(LineReprojectionFactor::Create(K, Project(K, T_w_c_gt, segments[i].a),
+                                                            Project(K, T_w_c_gt, segments[i].b),
+                                                            Eigen::Matrix2d::Identity()),
+                             nullptr, pose.data(), lines[i].data());
     problem.SetManifold(lines[i].data(), new LineManifold);
     problem.SetParameterBlockConstant(lines[i].data());
   }
@@ -327,8 +324,8 @@ TEST(LineReprojectionFactor, RecoversCameraPoseFromLinesOnly) {
   ceres::Solve(TightOptions(), &problem, &summary);
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.FullReport();
   const SE3d T_est = SE3d::FromParameters(pose.data());
-  EXPECT_LT(RotationError(T_est, T_w_c_true), 1e-6) << summary.BriefReport();
-  EXPECT_LT((T_est.translation() - T_w_c_true.translation()).norm(), 1e-6);
+  EXPECT_LT(RotationError(T_est, T_w_c_gt), 1e-6) << summary.BriefReport();
+  EXPECT_LT((T_est.translation() - T_w_c_gt.translation()).norm(), 1e-6);
 }
 
 TEST(LineReprojectionFactor, RefinesLinesWithKnownPoses) {
@@ -344,10 +341,10 @@ TEST(LineReprojectionFactor, RefinesLinesWithKnownPoses) {
   for (const SE3d& T : cameras) poses.push_back(PoseBlock(T));
   LineManifold manifold;
   for (const Segment& seg : segments) {
-    std::vector<double> truth = LineBlock(seg.L()), start(6);
+    std::vector<double> block_gt = LineBlock(seg.L()), start(6);
     Eigen::Vector4d delta;
     delta << verify::RandomVector(rng, 0.03), verify::Uniform(rng, -0.03, 0.03);
-    manifold.Plus(truth.data(), delta.data(), start.data());
+    manifold.Plus(block_gt.data(), delta.data(), start.data());
     lines.push_back(start);
   }
   ceres::Problem problem;
@@ -381,11 +378,11 @@ TEST(LineReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   const SE3d T_b_c(ExpSO3<double>(Eigen::Vector3d(-1.2, 0.1, 0.3)),
                    Eigen::Vector3d(0.1, -0.05, 0.2));
   const SE3d T_w_c = LookAtOrigin(Eigen::Vector3d(-3, 2, -7));
-  const SE3d T_w_b_true = T_w_c * T_b_c.Inverse();
+  const SE3d T_w_b_gt = T_w_c * T_b_c.Inverse();
   const std::vector<Segment> segments = RandomSegments(rng, 22);
   Eigen::Matrix<double, 6, 1> perturbation;
   perturbation << -0.04, 0.05, 0.02, -0.2, 0.3, 0.1;
-  std::vector<double> body = PoseBlock(T_w_b_true.Plus(perturbation)), ext = PoseBlock(T_b_c);
+  std::vector<double> body = PoseBlock(T_w_b_gt.Plus(perturbation)), ext = PoseBlock(T_b_c);
   std::vector<std::vector<double>> lines;
   for (const Segment& seg : segments) lines.push_back(LineBlock(seg.L()));
   ceres::Problem problem;
@@ -404,21 +401,9 @@ TEST(LineReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   ceres::Solve(TightOptions(), &problem, &summary);
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.FullReport();
   const SE3d T_est = SE3d::FromParameters(body.data());
-  EXPECT_LT(RotationError(T_est, T_w_b_true), 1e-6) << summary.BriefReport();
-  EXPECT_LT((T_est.translation() - T_w_b_true.translation()).norm(), 1e-6);
+  EXPECT_LT(RotationError(T_est, T_w_b_gt), 1e-6) << summary.BriefReport();
+  EXPECT_LT((T_est.translation() - T_w_b_gt.translation()).norm(), 1e-6);
   EXPECT_EQ(ext, PoseBlock(T_b_c));  // untouched
-}
-
-}  // namespace
-}  // namespace plucker
-
-namespace plucker {
-namespace {
-
-std::string Sci(double v) {
-  std::ostringstream os;
-  os << std::scientific << std::setprecision(2) << v;
-  return os.str();
 }
 
 // The registered checks of both factors (verify/line_factor_checks.cc); the curated guard sample
@@ -428,14 +413,12 @@ TEST(LineReprojectionFactor, JacobianChecksPass) {
   verify::JacobianCheckOptions options;
   options.samples = 1000;
   options.seed = 7;
-  for (const auto& check : verify::FactorJacobianChecks()) {
-    if (check.name.find("LineReprojection") == std::string::npos) continue;
-    const verify::JacobianCheckStats s = check.run(options);
-    EXPECT_TRUE(s.passed()) << s.first_failure;
-    EXPECT_GE(s.samples, 1000);
+  const verify::JacobianCheckRun run = verify::RunJacobianChecks(
+      verify::FactorJacobianChecks(), "factor.line.Reprojection", 4, options);
+  EXPECT_TRUE(run.ok()) << run.error;
+  for (const verify::JacobianCheckStats& s : run.stats) {
     EXPECT_EQ(s.skipped, 1) << s.name;
-    RecordProperty(s.name + ".worst_autodiff", Sci(s.worst_autodiff));
-    RecordProperty(s.name + ".worst_numeric", Sci(s.worst_numeric));
+    RecordProperty(s.name, s.WorstErrors());
   }
 }
 

@@ -12,13 +12,6 @@ bool FinitePoint(const double* p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
-// [v]x written out (Hat() builds the same matrix; this keeps the hot path free of temporaries).
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
 }  // namespace
 
 PointObservation MakePointObservation(const PinholeIntrinsics& K, const Eigen::Vector2d& uv,
@@ -70,7 +63,7 @@ bool PointReprojectionFactor::Evaluate(double const* const* parameters, double* 
   const Eigen::Matrix<double, 2, 3> A = obs_.sqrt_information * d_uv_d_pc;
   const Eigen::Matrix<double, 2, 3> d_r_d_pw = A * R.transpose();
   if (jacobians[0]) {
-    pose_block::WriteAmbient<2>(A * Skew(p_c), -d_r_d_pw, q, jacobians[0]);
+    pose_block::WriteAmbient<2>(A * Hat<double>(p_c), -d_r_d_pw, q, jacobians[0]);
   }
   if (jacobians[1]) {
     Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J_pw(jacobians[1]);
@@ -123,10 +116,10 @@ bool PointReprojectionFactorVI::Evaluate(double const* const* parameters, double
   const Eigen::Matrix<double, 2, 3> B = A * R_bc.transpose();
   const Eigen::Matrix<double, 2, 3> d_r_d_pw = B * R_wb.transpose();
   if (jacobians[0]) {
-    pose_block::WriteAmbient<2>(B * Skew(p_b), -d_r_d_pw, q_wb, jacobians[0]);
+    pose_block::WriteAmbient<2>(B * Hat<double>(p_b), -d_r_d_pw, q_wb, jacobians[0]);
   }
   if (jacobians[1]) {
-    pose_block::WriteAmbient<2>(A * Skew(p_c), -B, q_bc, jacobians[1]);
+    pose_block::WriteAmbient<2>(A * Hat<double>(p_c), -B, q_bc, jacobians[1]);
   }
   if (jacobians[2]) {
     Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J_pw(jacobians[2]);

@@ -120,13 +120,9 @@ TEST(PointReprojectionFactor, EvaluateRejectsBadParameters) {
 TEST(PointReprojectionFactor, JacobianChecksPass) {
   verify::JacobianCheckOptions options;
   options.samples = 1000;
-  for (const auto& check : verify::PointFactorJacobianChecks()) {
-    const verify::JacobianCheckStats s = check.run(options);
-    EXPECT_TRUE(s.passed()) << s.first_failure;
-    EXPECT_EQ(s.samples, options.samples) << check.name;
-    EXPECT_LT(s.worst_autodiff, 1e-9) << check.name;
-    EXPECT_LT(s.worst_numeric, 1e-6) << check.name;
-  }
+  const verify::JacobianCheckRun run =
+      verify::RunJacobianChecks(verify::PointFactorJacobianChecks(), "factor.point.", 2, options);
+  EXPECT_TRUE(run.ok()) << run.error;
 }
 
 TEST(PointReprojectionFactor, GradientCheckerWithPoseManifold) {
@@ -187,20 +183,20 @@ TEST(PointReprojectionFactorVI, ConstantExtrinsicJacobianMayBeOmitted) {
 TEST(PointReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   verify::Rng rng(9);
   const PinholeIntrinsics K = TestCamera();
-  const SE3d T_w_b_true = verify::RandomPose(rng, 3.0);
+  const SE3d T_w_b_gt = verify::RandomPose(rng, 3.0);
   const SE3d T_b_c(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Vector3d(0.1, 0.02, -0.05));
   std::vector<Vector3d> points;
   std::vector<Vector2d> pixels;
   for (int i = 0; i < 60; ++i) {
     const Vector3d p_c(verify::Uniform(rng, -3, 3), verify::Uniform(rng, -2, 2),
                        verify::Uniform(rng, 3, 15));
-    points.push_back(T_w_b_true * (T_b_c * p_c));
+    points.push_back(T_w_b_gt * (T_b_c * p_c));
     pixels.push_back(*ProjectCameraPoint(K, p_c));
   }
   Vector6d delta;
   delta << verify::RandomUnitVector(rng) * 0.05, verify::RandomUnitVector(rng) * 0.2;
   double x_wb[7], x_bc[7];
-  T_w_b_true.Plus(delta).ToParameters(x_wb);
+  T_w_b_gt.Plus(delta).ToParameters(x_wb);
   T_b_c.ToParameters(x_bc);
   ceres::Problem problem;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -219,7 +215,7 @@ TEST(PointReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.BriefReport();
-  const Vector6d err = SE3d::FromParameters(x_wb).Minus(T_w_b_true);
+  const Vector6d err = SE3d::FromParameters(x_wb).Minus(T_w_b_gt);
   EXPECT_LT(err.norm(), 1e-8) << summary.BriefReport();
   EXPECT_EQ(SE3d::FromParameters(x_bc).Minus(T_b_c).norm(), 0.0);
 }

@@ -1,5 +1,5 @@
-// Helpers shared by the analytic pose factors (lidar_factors.cc, point_reprojection_factor.cc):
-// reading a 7-value pose block and turning tangent Jacobians into ambient ones.
+// The one way the analytic factors read a 7-value pose block and turn tangent Jacobians into
+// ambient ones (lidar_factors.cc, point_reprojection_factor.cc, line_reprojection_factor.cc).
 #pragma once
 
 #include <Eigen/Core>
@@ -9,22 +9,24 @@
 namespace plucker {
 namespace pose_block {
 
-// The block's unit quaternion, rotation matrix and translation. False for non-finite values or a
-// zero quaternion (the factors then return false from Evaluate).
+// The block's unit quaternion, rotation matrix (if R is given) and translation. False for
+// non-finite values or a quaternion whose squared norm is zero or overflows (the factors then
+// return false from Evaluate).
 inline bool Read(const double* x, Eigen::Quaterniond* q, Eigen::Matrix3d* R, Eigen::Vector3d* t) {
   for (int i = 0; i < 7; ++i)
     if (!std::isfinite(x[i])) return false;
   *q = Eigen::Quaterniond(x[3], x[0], x[1], x[2]);
   const double n2 = q->squaredNorm();
-  if (!(n2 > 0.0)) return false;
+  if (!(n2 > 0.0) || !std::isfinite(n2)) return false;
   q->coeffs() /= std::sqrt(n2);
-  *R = q->toRotationMatrix();
+  if (R) *R = q->toRotationMatrix();
   *t = Eigen::Vector3d(x[4], x[5], x[6]);
   return true;
 }
 
 // Writes d r/d x (kRows x 7, row-major, as Ceres expects) from the tangent blocks d r/d dtheta
-// (J_rot) and d r/d dt (J_t): J_ambient = [J_rot, J_t] * PoseManifold::MinusJacobian(x). The
+// (J_rot) and d r/d dt (J_t) at the unit quaternion q: J_ambient = [J_rot, J_t] *
+// PoseManifold::MinusJacobian(x) (test PoseBlock.WriteAmbientIsTangentTimesMinusJacobian). The
 // rotation block of MinusJacobian is 4 G(q)^T = 2 M(q)^T with G = QuaternionRightPlusJacobian(q)
 // (geometry/so3.cc), expanded here by hand to avoid the 3x4 temporary.
 template <int kRows, typename DerivedRot, typename DerivedT>

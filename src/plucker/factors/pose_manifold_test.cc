@@ -3,6 +3,7 @@
 #include <ceres/manifold_test_utils.h>
 #include <gtest/gtest.h>
 
+#include "plucker/factors/pose_block.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
@@ -40,6 +41,35 @@ TEST(PoseManifold, RejectsNonFiniteInput) {
   double jac[42];
   EXPECT_FALSE(manifold.Plus(x, delta, out));
   EXPECT_FALSE(manifold.PlusJacobian(x, jac));
+}
+
+// The one tangent-to-ambient conversion of the analytic factors, against its definition.
+TEST(PoseBlock, WriteAmbientIsTangentTimesMinusJacobian) {
+  PoseManifold manifold;
+  verify::Rng rng(12);
+  for (int i = 0; i < 100; ++i) {
+    double x[7];
+    verify::RandomPose(rng).ToParameters(x);
+    for (int k = 0; k < 4; ++k) x[k] *= verify::Uniform(rng, 0.5, 2.0);  // not normalised
+    Eigen::Quaterniond q;
+    Eigen::Vector3d t;
+    ASSERT_TRUE(pose_block::Read(x, &q, nullptr, &t));
+    const Eigen::Matrix<double, 3, 6> J_tangent = Eigen::Matrix<double, 3, 6>::Random();
+    Eigen::Matrix<double, 6, 7, Eigen::RowMajor> M;
+    ASSERT_TRUE(manifold.MinusJacobian(x, M.data()));
+    Eigen::Matrix<double, 3, 7, Eigen::RowMajor> J;
+    pose_block::WriteAmbient<3>(J_tangent.leftCols<3>(), J_tangent.rightCols<3>(), q, J.data());
+    EXPECT_LT((J - J_tangent * M).norm(), 1e-14 * (1.0 + J.norm()));
+  }
+}
+
+TEST(PoseBlock, ReadRefusesNonFiniteZeroAndOverflowingQuaternions) {
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+  for (const double qx : {std::nan(""), 0.0, 1e200}) {
+    const double x[7] = {qx, 0, 0, qx == 0.0 ? 0.0 : 1e200, 1, 2, 3};
+    EXPECT_FALSE(pose_block::Read(x, &q, nullptr, &t)) << qx;
+  }
 }
 
 }  // namespace

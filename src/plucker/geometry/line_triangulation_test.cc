@@ -103,8 +103,8 @@ TEST(LineTriangulation, NoisyErrorBound) {
     // Endpoints: across the line as accurate as the line; along it weaker where a view's
     // endpoint ray is nearly parallel to the line, and the union of the views' extents is biased
     // outwards by the noise.
-    for (const auto& [est, truth] : {std::make_pair(r.start_w, P), std::make_pair(r.end_w, Q)}) {
-      const Eigen::Vector3d err = est - truth;
+    for (const auto& [est, gt] : {std::make_pair(r.start_w, P), std::make_pair(r.end_w, Q)}) {
+      const Eigen::Vector3d err = est - gt;
       EXPECT_LT((err - d * d.dot(err)).norm(), 0.15);
       EXPECT_LT(std::abs(d.dot(err)), 0.8);
       sum_end += err.norm();

@@ -14,38 +14,30 @@ Eigen::Matrix<double, 6, 6> LineTransformMatrix(const SE3d& T_a_b) {
   return H;
 }
 
-Line6d TransformLine(const SE3d& T_a_b, const Line6d& L_b, Eigen::Matrix<double, 6, 6>* d_La_d_pose,
-                     Eigen::Matrix<double, 6, 6>* d_La_d_Lb) {
+Line6d TransformLine(const SE3d& T_a_b, const Line6d& L_b, Matrix6d* d_La_d_Tab,
+                     Matrix6d* d_La_d_Lb, Matrix6d* d_La_d_Tba) {
   const Line6d L_a = TransformLine<double>(T_a_b, L_b);
-  if (d_La_d_pose) {
-    // R Exp(dth) v ~ R v - R [v]x dth; t + dt adds dt x d_a = -[d_a]x dt to n_a.
-    const Eigen::Matrix3d R = T_a_b.RotationMatrix();
-    const Eigen::Matrix3d R_hat_d = R * Hat<double>(L_b.tail<3>());
-    d_La_d_pose->block<3, 3>(0, 0) =
-        -R * Hat<double>(L_b.head<3>()) - Hat<double>(T_a_b.translation()) * R_hat_d;
-    d_La_d_pose->block<3, 3>(0, 3) = -Hat<double>(L_a.tail<3>());
-    d_La_d_pose->block<3, 3>(3, 0) = -R_hat_d;
-    d_La_d_pose->block<3, 3>(3, 3).setZero();
-  }
   if (d_La_d_Lb) *d_La_d_Lb = LineTransformMatrix(T_a_b);
-  return L_a;
-}
-
-Line6d LineWorldToCamera(const SE3d& T_w_c, const Line6d& L_w,
-                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Twc,
-                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Lw) {
-  const Line6d L_c = LineWorldToCamera<double>(T_w_c, L_w);
-  if (d_Lc_d_Twc) {
-    // (R Exp(dth))^T = Exp(-dth) R^T: v_c -> v_c - dth x v_c = v_c + [v_c]x dth.
-    // n_c = R^T (n_w + [d_w]x t): t + dt adds R^T [d_w]x dt.
-    const Eigen::Matrix3d Rt = T_w_c.RotationMatrix().transpose();
-    d_Lc_d_Twc->block<3, 3>(0, 0) = Hat<double>(L_c.head<3>());
-    d_Lc_d_Twc->block<3, 3>(0, 3) = Rt * Hat<double>(L_w.tail<3>());
-    d_Lc_d_Twc->block<3, 3>(3, 0) = Hat<double>(L_c.tail<3>());
-    d_Lc_d_Twc->block<3, 3>(3, 3).setZero();
+  if (!d_La_d_Tab && !d_La_d_Tba) return L_a;
+  const Eigen::Matrix3d R = T_a_b.RotationMatrix();
+  const Eigen::Matrix3d R_hat_d = R * Hat<double>(L_b.tail<3>());
+  if (d_La_d_Tab) {
+    // R Exp(dth) v ~ R v - R [v]x dth; t + dt adds dt x d_a = -[d_a]x dt to n_a.
+    d_La_d_Tab->block<3, 3>(0, 0) =
+        -R * Hat<double>(L_b.head<3>()) - Hat<double>(T_a_b.translation()) * R_hat_d;
+    d_La_d_Tab->block<3, 3>(0, 3) = -Hat<double>(L_a.tail<3>());
+    d_La_d_Tab->block<3, 3>(3, 0) = -R_hat_d;
+    d_La_d_Tab->block<3, 3>(3, 3).setZero();
   }
-  if (d_Lc_d_Lw) *d_Lc_d_Lw = LineTransformMatrix(T_w_c.Inverse());
-  return L_c;
+  if (d_La_d_Tba) {
+    // T_b_a = (R^T, t_b_a) held: (R^T Exp(dth))^T = Exp(-dth) R, so every frame-a vector v_a
+    // becomes v_a + [v_a]x dth; n_a = R (n_b - t_b_a x d_b) is linear in t_b_a with R [d_b]x.
+    d_La_d_Tba->block<3, 3>(0, 0) = Hat<double>(L_a.head<3>());
+    d_La_d_Tba->block<3, 3>(0, 3) = R_hat_d;
+    d_La_d_Tba->block<3, 3>(3, 0) = Hat<double>(L_a.tail<3>());
+    d_La_d_Tba->block<3, 3>(3, 3).setZero();
+  }
+  return L_a;
 }
 
 bool IsValidLine(const Line6d& L, double tol) {

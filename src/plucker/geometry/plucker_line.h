@@ -41,7 +41,9 @@ Line6<T> LineFromPlanes(const Eigen::Matrix<T, 4, 1>& pi1, const Eigen::Matrix<T
 // H(T_a_b) = [[R, [t]x R], [0, R]]: L_a = H L_b.
 Eigen::Matrix<double, 6, 6> LineTransformMatrix(const SE3d& T_a_b);
 
-// L_a = H(T_a_b) L_b (value only, templated for Jets):
+// L_a = H(T_a_b) L_b, named by frames as poses are (geometry/se3.h): world to camera is
+// L_c = TransformLine(T_c_w, L_w), body to camera L_c = TransformLine(T_c_b, L_b).
+// Value only, templated for Jets:
 //   n_a = R n_b + t x (R d_b),   d_a = R d_b.
 template <typename T>
 Line6<T> TransformLine(const SE3<T>& T_a_b, const Line6<T>& L_b) {
@@ -54,30 +56,13 @@ Line6<T> TransformLine(const SE3<T>& T_a_b, const Line6<T>& L_b) {
 }
 
 // Same with Jacobians (this double overload is preferred over the template for doubles):
-// d_La_d_pose w.r.t. the (dtheta, dt) tangent of T_a_b,
+// d_La_d_Tab w.r.t. the (dtheta, dt) tangent of T_a_b,
 //   [[-R[n_b]x - [t]x R [d_b]x, -[d_a]x], [-R [d_b]x, 0]],
-// and d_La_d_Lb = H(T_a_b).
-Line6d TransformLine(const SE3d& T_a_b, const Line6d& L_b,
-                     Eigen::Matrix<double, 6, 6>* d_La_d_pose = nullptr,
-                     Eigen::Matrix<double, 6, 6>* d_La_d_Lb = nullptr);
-
-// L_c = H(T_w_c^-1) L_w (value only, templated): n_c = R^T (n_w - t x d_w), d_c = R^T d_w.
-template <typename T>
-Line6<T> LineWorldToCamera(const SE3<T>& T_w_c, const Line6<T>& L_w) {
-  const Matrix3<T> Rt = T_w_c.RotationMatrix().transpose();
-  Line6<T> L_c;
-  L_c.template head<3>() =
-      Rt * (L_w.template head<3>() - T_w_c.translation().cross(L_w.template tail<3>()));
-  L_c.template tail<3>() = Rt * L_w.template tail<3>();
-  return L_c;
-}
-
-// Same with Jacobians. d_Lc_d_Twc is w.r.t. the tangent of T_w_c (NOT of T_c_w):
-//   [[ [n_c]x, R^T [d_w]x ], [ [d_c]x, 0 ]];   d_Lc_d_Lw = H(T_w_c^-1).
-// Also usable for any pair of frames: LineWorldToCamera(T_a_b, L_a) = L_b.
-Line6d LineWorldToCamera(const SE3d& T_w_c, const Line6d& L_w,
-                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Twc = nullptr,
-                         Eigen::Matrix<double, 6, 6>* d_Lc_d_Lw = nullptr);
+// d_La_d_Lb = H(T_a_b), and d_La_d_Tba w.r.t. the tangent of T_b_a = T_a_b^-1, for a solver that
+// holds T_b_a (the camera pose T_w_c in L_c = TransformLine(T_c_w, L_w)):
+//   [[ [n_a]x, R [d_b]x ], [ [d_a]x, 0 ]]   (= d_La_d_Tab * d_Tab_d_Tba, se3.h Inverse).
+Line6d TransformLine(const SE3d& T_a_b, const Line6d& L_b, Matrix6d* d_La_d_Tab = nullptr,
+                     Matrix6d* d_La_d_Lb = nullptr, Matrix6d* d_La_d_Tba = nullptr);
 
 // ---------------------------------------------------------------------------------------------
 // Validity and normalisation. Every function below returns std::nullopt / false for non-finite

@@ -5,9 +5,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 #include <string>
 
 #include "plucker/verify/checks.h"
@@ -54,16 +52,17 @@ TEST(PluckerLine, LineTransformMatrixComposes) {
             1e-12);
 }
 
-TEST(PluckerLine, LineWorldToCameraIsTransformByInverse) {
+// World to camera as the factors write it, L_c = TransformLine(T_c_w, L_w), with the Jacobian
+// w.r.t. the held pose T_w_c: the closed form equals the chain through the inverse (se3.h).
+TEST(PluckerLine, InversePoseJacobianIsTheChainThroughInverse) {
   Rng rng(3);
   for (int i = 0; i < 50; ++i) {
     const SE3d T_w_c = verify::RandomPose(rng);
-    const Eigen::Vector3d p1 = verify::RandomVector(rng, 3), p2 = verify::RandomVector(rng, 3);
-    const Line6d L_w = LineFromPoints(p1, p2);
-    const Line6d L_c = LineWorldToCamera(T_w_c, L_w);
-    EXPECT_LT((L_c - TransformLine(T_w_c.Inverse(), L_w)).norm(), 1e-12);
-    const SE3d T_c_w = T_w_c.Inverse();
-    EXPECT_LT((L_c - LineFromPoints<double>(T_c_w * p1, T_c_w * p2)).norm(), 1e-12);
+    const Line6d L_w = LineFromPoints(verify::RandomVector(rng, 3), verify::RandomVector(rng, 3));
+    Matrix6d d_Tcw_d_Twc, d_Lc_d_Tcw, d_Lc_d_Twc;
+    const SE3d T_c_w = Inverse(T_w_c, &d_Tcw_d_Twc);
+    TransformLine(T_c_w, L_w, &d_Lc_d_Tcw, nullptr, &d_Lc_d_Twc);
+    EXPECT_LT((d_Lc_d_Twc - d_Lc_d_Tcw * d_Tcw_d_Twc).norm(), 1e-12 * (1.0 + d_Lc_d_Twc.norm()));
   }
 }
 
@@ -79,20 +78,20 @@ TEST(PluckerLine, KnownMomentConventionMistakesAreDetected) {
   const Eigen::Vector3d t = T_w_c.translation();
 
   // Value: the wrong formula does not map the points' line.
-  const Line6d truth = LineFromPoints<double>(T_w_c.Inverse() * p1, T_w_c.Inverse() * p2);
+  const Line6d L_c_gt = LineFromPoints<double>(T_w_c.Inverse() * p1, T_w_c.Inverse() * p2);
   const Eigen::Vector3d wrong_n = Rt * (L_w.head<3>() + Hat<double>(t) * L_w.tail<3>());
-  EXPECT_GT((wrong_n - truth.head<3>()).norm(), 0.1);
-  EXPECT_LT((LineWorldToCamera(T_w_c, L_w) - truth).norm(), 1e-12);
+  EXPECT_GT((wrong_n - L_c_gt.head<3>()).norm(), 0.1);
+  EXPECT_LT((TransformLine(T_w_c.Inverse(), L_w) - L_c_gt).norm(), 1e-12);
 
-  // Jacobian: the translation block.
-  Eigen::Matrix<double, 6, 6> J;
-  LineWorldToCamera(T_w_c, L_w, &J);
+  // Jacobian w.r.t. the held pose T_w_c: the translation block.
+  Matrix6d J;
+  TransformLine(T_w_c.Inverse(), L_w, nullptr, nullptr, &J);
   Eigen::Matrix3d numeric;
   for (int k = 0; k < 3; ++k) {
     Vector6d d = Vector6d::Zero();
     d(3 + k) = 1e-6;
-    numeric.col(k) = (LineWorldToCamera(T_w_c.Plus(d), L_w).head<3>() -
-                      LineWorldToCamera(T_w_c.Plus(-d), L_w).head<3>()) /
+    numeric.col(k) = (TransformLine(T_w_c.Plus(d).Inverse(), L_w).head<3>() -
+                      TransformLine(T_w_c.Plus(-d).Inverse(), L_w).head<3>()) /
                      2e-6;
   }
   const Eigen::Matrix3d wrong_block = -Rt * Hat<double>(L_w.tail<3>());
@@ -206,22 +205,15 @@ TEST(PluckerLine, LineLineDistanceSkewParallelIntersecting) {
   EXPECT_FALSE(LineLineDistance(x_axis, Line6d::Zero()));
 }
 
-std::string Sci(double v) {
-  std::ostringstream os;
-  os << std::scientific << std::setprecision(2) << v;
-  return os.str();
-}
-
 // The registered Jacobian checks of this module, with more samples than the registry test.
 TEST(PluckerLine, JacobianChecksPass) {
   verify::JacobianCheckOptions options;
   options.samples = 2000;
-  for (const auto& check : verify::LineJacobianChecks()) {
-    const verify::JacobianCheckStats s = check.run(options);
-    EXPECT_TRUE(s.passed()) << s.first_failure;
-    EXPECT_GE(s.samples, 2000);
-    RecordProperty(s.name + ".worst_autodiff", Sci(s.worst_autodiff));
-    RecordProperty(s.name + ".worst_numeric", Sci(s.worst_numeric));
+  const verify::JacobianCheckRun run =
+      verify::RunJacobianChecks(verify::LineJacobianChecks(), "", 4, options);
+  EXPECT_TRUE(run.ok()) << run.error;
+  for (const verify::JacobianCheckStats& s : run.stats) {
+    RecordProperty(s.name, s.WorstErrors());
     if (s.name == "line_projection.EndpointLineResidual") {
       EXPECT_EQ(s.skipped, 2);  // the two curated guard cases
     }

@@ -1,6 +1,7 @@
 #include "plucker/verify/jacobian_check.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <sstream>
 
 namespace plucker {
@@ -29,6 +30,13 @@ Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen:
   return J;
 }
 
+std::string JacobianCheckStats::WorstErrors() const {
+  std::ostringstream os;
+  os << std::scientific << std::setprecision(2) << "autodiff " << worst_autodiff << ", numeric "
+     << worst_numeric;
+  return os.str();
+}
+
 void JacobianCheckStats::Add(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& autodiff,
                              const Eigen::MatrixXd& numeric, const std::string& what) {
   ++samples;
@@ -54,6 +62,30 @@ std::vector<NamedJacobianCheck> AllJacobianChecks() {
   std::vector<NamedJacobianCheck> all = GeometryJacobianChecks();
   for (auto& c : FactorJacobianChecks()) all.push_back(std::move(c));
   return all;
+}
+
+JacobianCheckRun RunJacobianChecks(const std::vector<NamedJacobianCheck>& checks,
+                                   const std::string& filter, int expected_checks,
+                                   const JacobianCheckOptions& options) {
+  JacobianCheckRun result;
+  std::ostringstream error;
+  for (const auto& check : checks) {
+    if (check.name.find(filter) == std::string::npos) continue;
+    result.stats.push_back(check.run(options));
+    const JacobianCheckStats& s = result.stats.back();
+    if (s.samples < options.samples) {
+      error << check.name << ": " << s.samples << " samples, expected >= " << options.samples
+            << "\n";
+    } else if (!s.passed()) {
+      error << s.first_failure << "\n";
+    }
+  }
+  if (static_cast<int>(result.stats.size()) != expected_checks) {
+    error << "filter '" << filter << "' selected " << result.stats.size() << " checks, expected "
+          << expected_checks << "\n";
+  }
+  result.error = error.str();
+  return result;
 }
 
 }  // namespace verify

@@ -57,6 +57,9 @@ struct JacobianCheckStats {
   std::string first_failure;  // description of the first failing sample
   bool passed() const { return failures == 0 && samples > 0; }
 
+  // "autodiff 1.23e-15, numeric 4.56e-09": the worst errors, for logs and test properties.
+  std::string WorstErrors() const;
+
   // Records one sample. `what` describes the configuration for the failure message.
   void Add(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& autodiff,
            const Eigen::MatrixXd& numeric, const std::string& what = "");
@@ -77,6 +80,18 @@ inline void PrintTo(const NamedJacobianCheck& c, std::ostream* os) { *os << c.na
 std::vector<NamedJacobianCheck> GeometryJacobianChecks();
 std::vector<NamedJacobianCheck> FactorJacobianChecks();
 std::vector<NamedJacobianCheck> AllJacobianChecks();
+
+// A selection of checks run as a test runs it. ok() only if exactly `expected_checks` names
+// contain the filter and each check passed on at least options.samples samples: a misspelled
+// filter or a renamed check fails instead of passing on an empty selection.
+struct JacobianCheckRun {
+  std::vector<JacobianCheckStats> stats;  // one per selected check, in registry order
+  std::string error;                      // why the run failed; empty when ok
+  bool ok() const { return error.empty(); }
+};
+JacobianCheckRun RunJacobianChecks(const std::vector<NamedJacobianCheck>& checks,
+                                   const std::string& filter, int expected_checks,
+                                   const JacobianCheckOptions& options);
 
 }  // namespace verify
 }  // namespace plucker

@@ -64,26 +64,26 @@ JacobianCheckStats CheckTransformLine(const JacobianCheckOptions& o) {
   return s;
 }
 
-// L_c = H(T_w_c^-1) L_w with Jacobians w.r.t. the tangent of T_w_c and L_w.
-JacobianCheckStats CheckLineWorldToCamera(const JacobianCheckOptions& o) {
+// L_c = TransformLine(T_c_w, L_w) with the Jacobian w.r.t. the tangent of the held T_w_c.
+JacobianCheckStats CheckTransformLineInversePose(const JacobianCheckOptions& o) {
   JacobianCheckStats s;
-  s.name = "line.LineWorldToCamera";
+  s.name = "line.TransformLine.inverse_pose";
   Rng rng(o.seed + 101);
   for (int i = 0; i < o.samples; ++i) {
     const SE3d T_w_c = SamplePose(rng, i < 12 ? i / 3 : i);
     const Line6d L_w = SampleLine(rng, i < 12 ? i % 3 : i);
-    Matrix6 J_pose, J_line;
-    LineWorldToCamera(T_w_c, L_w, &J_pose, &J_line);
+    Matrix6 J_line, J_pose;
+    TransformLine(T_w_c.Inverse(), L_w, nullptr, &J_line, &J_pose);
     auto twin = [&](const auto& d) {
       using T_ = typename std::decay_t<decltype(d)>::Scalar;
       const Line6<T_> L_t = L_w.cast<T_>() + d.template tail<6>();
-      return LineWorldToCamera<T_>(T_w_c.cast<T_>().Plus(d.template head<6>()), L_t);
+      return TransformLine<T_>(T_w_c.cast<T_>().Plus(d.template head<6>()).Inverse(), L_t);
     };
     const Eigen::Matrix<double, 6, 12> J_ad = AutoDiffJacobian<12, 6>(twin, Vector12::Zero());
     const Eigen::MatrixXd J_num = NumericJacobian(
         [&](const Eigen::VectorXd& d) {
           return Eigen::VectorXd(
-              LineWorldToCamera(T_w_c.Plus(d.head<6>()), Line6d(L_w + d.tail<6>())));
+              TransformLine(T_w_c.Plus(d.head<6>()).Inverse(), Line6d(L_w + d.tail<6>())));
         },
         Eigen::VectorXd::Zero(12));
     Eigen::Matrix<double, 6, 12> J;
@@ -249,7 +249,7 @@ JacobianCheckStats CheckEndpointLineResidual(const JacobianCheckOptions& o) {
 
 std::vector<NamedJacobianCheck> LineJacobianChecks() {
   return {{"line.TransformLine", CheckTransformLine},
-          {"line.LineWorldToCamera", CheckLineWorldToCamera},
+          {"line.TransformLine.inverse_pose", CheckTransformLineInversePose},
           {"orthonormal.PluckerFromOrthonormal", CheckOrthonormalJacobian},
           {"line_projection.EndpointLineResidual", CheckEndpointLineResidual}};
 }

@@ -127,7 +127,7 @@ LineFactorSample MonoSample(Rng& rng, int i) {
     L_w =
         LineFromPoints<double>(T_w_c * Eigen::Vector3d(0, 0, 1), T_w_c * Eigen::Vector3d(0, 0, 4));
   }
-  SampleMeasurement(rng, SampleIntrinsics(rng), LineWorldToCamera(T_w_c, L_w), &smp);
+  SampleMeasurement(rng, SampleIntrinsics(rng), TransformLine(T_w_c.Inverse(), L_w), &smp);
   smp.blocks = {Block(T_w_c, 7), Block(*OrthonormalFromPlucker(L_w), 6)};
   return smp;
 }
@@ -141,7 +141,7 @@ LineFactorSample VISample(Rng& rng, int i) {
   const SE3d T_b_c = (i == 6) ? SE3d(RotationNearPi(rng, 0.0), RandomVector(rng, 0.2))
                               : SE3d(RandomRotation(rng), RandomVector(rng, 0.2));
   const SE3d T_w_b = T_w_c * T_b_c.Inverse();
-  SampleMeasurement(rng, SampleIntrinsics(rng), LineWorldToCamera(T_w_c, L_w), &smp);
+  SampleMeasurement(rng, SampleIntrinsics(rng), TransformLine(T_w_c.Inverse(), L_w), &smp);
   smp.blocks = {Block(T_w_b, 7), Block(T_b_c, 7), Block(*OrthonormalFromPlucker(L_w), 6)};
   return smp;
 }
