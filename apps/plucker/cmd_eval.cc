@@ -30,7 +30,7 @@ namespace {
 using nlohmann::json;
 
 struct EvalArgs {
-  std::string gt, est, gt_times, est_times;
+  std::string gt, est, times_gt, times_est;
   std::string format = "auto";
   std::string plot, plane = "auto";
   bool json = false;
@@ -49,9 +49,9 @@ void AddCommonOptions(CLI::App* cmd, EvalArgs* a) {
                   "8 = tum (t tx ty tz qx qy qz qw)")
       ->check(CLI::IsMember({"auto", "kitti", "tum"}))
       ->capture_default_str();
-  cmd->add_option("--gt-times", a->gt_times,
+  cmd->add_option("--gt-times", a->times_gt,
                   "times.txt for a KITTI ground truth (enables association by time)");
-  cmd->add_option("--est-times", a->est_times, "times.txt for a KITTI estimate");
+  cmd->add_option("--est-times", a->times_est, "times.txt for a KITTI estimate");
   cmd->add_option("--max-dt", a->max_dt,
                   "Largest timestamp difference [s] when pairing TUM poses by time")
       ->check(CLI::NonNegativeNumber)
@@ -80,7 +80,7 @@ bool SameFile(const std::string& a, const std::string& b) {
 
 void CheckPlotPath(const EvalArgs& a) {
   if (a.plot.empty()) return;
-  for (const std::string* input : {&a.gt, &a.est, &a.gt_times, &a.est_times}) {
+  for (const std::string* input : {&a.gt, &a.est, &a.times_gt, &a.times_est}) {
     if (!input->empty() && SameFile(a.plot, *input)) {
       throw std::invalid_argument("--plot " + a.plot +
                                   " is an input file; refusing to overwrite it");
@@ -109,8 +109,8 @@ Input Load(const EvalArgs& a) {
     }
     t->times = std::move(times);
   };
-  attach_times(a.gt_times, a.gt, &in.gt);
-  attach_times(a.est_times, a.est, &in.est);
+  attach_times(a.times_gt, a.gt, &in.gt);
+  attach_times(a.times_est, a.est, &in.est);
   try {
     if (!in.gt.times.empty() && !in.est.times.empty()) {
       eval::AssociationOptions options;
@@ -139,8 +139,8 @@ json StatsJson(const eval::ErrorStatistics& s) {
 
 json AssociationJson(const eval::AssociatedTrajectories& p) {
   json j{{"mode", p.by_time ? "time" : "index"},
-         {"gt_poses", p.gt_count},
-         {"est_poses", p.est_count},
+         {"gt_poses", p.count_gt},
+         {"est_poses", p.count_est},
          {"pairs", p.gt.size()}};
   if (p.by_time) j["max_time_difference_s"] = p.max_time_difference_used;
   return j;
@@ -170,7 +170,7 @@ void PrintHeader(std::ostream& out, const EvalArgs& a, const Input& in) {
   if (in.pairs.by_time) {
     out << "  association    by time: " << in.pairs.gt.size() << " pairs (max |dt| "
         << Fixed(in.pairs.max_time_difference_used, 4) << " s <= " << a.max_dt << " s); "
-        << in.pairs.est_count - static_cast<int>(in.pairs.gt.size())
+        << in.pairs.count_est - static_cast<int>(in.pairs.gt.size())
         << " estimate poses unpaired\n";
   } else {
     out << "  association    frame by frame: " << in.pairs.gt.size() << " pairs\n";
@@ -270,9 +270,9 @@ void RunKitti(const EvalArgs& a) {
                            " deg/100 m (" + std::to_string(r.segment_count) + " segments)"
                      : "KITTI metric: no segment (path " + Fixed(r.path_length, 1) + " m < 100 m)";
     plot.subtitle = Subtitle(a);
-    plot.gt_positions = eval::Positions(in.pairs.gt);
-    plot.est_positions = eval::Positions(in.pairs.est);
-    plot.est_label = "estimate (not aligned)";
+    plot.positions_gt = eval::Positions(in.pairs.gt);
+    plot.positions_est = eval::Positions(in.pairs.est);
+    plot.label_est = "estimate (not aligned)";
     plot.plane = Plane(a);
     plot.error_title = "Segment translation error vs. start of segment";
     plot.error_y_label = "translation error [%]";
@@ -342,9 +342,9 @@ void RunAte(const EvalArgs& a) {
                  " m, max " + Fixed(r.translation_m.max, 3) + " m over " +
                  std::to_string(r.translation_m.count) + " poses";
     plot.subtitle = Subtitle(a);
-    plot.gt_positions = eval::Positions(in.pairs.gt);
-    plot.est_positions = eval::Positions(r.aligned_estimate);
-    plot.est_label = a.align == "none" ? "estimate" : "estimate (" + a.align + " aligned)";
+    plot.positions_gt = eval::Positions(in.pairs.gt);
+    plot.positions_est = eval::Positions(r.aligned_estimate);
+    plot.label_est = a.align == "none" ? "estimate" : "estimate (" + a.align + " aligned)";
     plot.plane = Plane(a);
     plot.error_title = "Position error per pose";
     plot.error_y_label = "position error [m]";
@@ -397,9 +397,9 @@ void RunRpe(const EvalArgs& a) {
                  Fixed(r.translation_m.rmse, 4) + " m, rotation RMSE " +
                  Fixed(r.rotation_deg.rmse, 4) + " deg";
     plot.subtitle = Subtitle(a);
-    plot.gt_positions = eval::Positions(in.pairs.gt);
-    plot.est_positions = eval::Positions(r.aligned_estimate);
-    plot.est_label = a.align == "none" ? "estimate" : "estimate (" + a.align + " aligned)";
+    plot.positions_gt = eval::Positions(in.pairs.gt);
+    plot.positions_est = eval::Positions(r.aligned_estimate);
+    plot.label_est = a.align == "none" ? "estimate" : "estimate (" + a.align + " aligned)";
     plot.plane = Plane(a);
     plot.error_title = "Relative translation error per frame pair";
     plot.error_y_label = "translation error over " + delta.str() + " [m]";

@@ -45,7 +45,7 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   const sim::LidarSimulator simulator(scene, sim_options);
 
   lidar::LidarOdometry odometry;
-  std::vector<SE3d> truth, estimate;
+  std::vector<SE3d> poses_gt, estimate;
   std::vector<double> frame_ms, sim_ms_total;
   int degenerate = 0, failed = 0;
   const SE3d T_s0_w = trajectory.T_w_s(0.0).Inverse();
@@ -58,15 +58,15 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
     const auto t2 = std::chrono::steady_clock::now();
     sim_ms_total.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     frame_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-    truth.push_back(T_s0_w * trajectory.T_w_s(t));
+    poses_gt.push_back(T_s0_w * trajectory.T_w_s(t));
     estimate.push_back(r.T_w_s);
     if (r.degeneracy.degenerate) ++degenerate;
     if (!r.ok) ++failed;
   }
 
-  const eval::KittiResult kitti = eval::ComputeKittiMetric(truth, estimate);
-  const eval::AteResult ate = eval::ComputeAte(truth, estimate);
-  const eval::RpeResult rpe = eval::ComputeRpe(truth, estimate);
+  const eval::KittiResult kitti = eval::ComputeKittiMetric(poses_gt, estimate);
+  const eval::AteResult ate = eval::ComputeAte(poses_gt, estimate);
+  const eval::RpeResult rpe = eval::ComputeRpe(poses_gt, estimate);
   const double path = kitti.path_length;
   std::printf("  %d frames, %.0f m driven, %d degenerate, %d not registered\n", frames, path,
               degenerate, failed);
@@ -89,7 +89,7 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw io::IoError(dir.string(), "cannot create folder: " + ec.message());
-  io::WriteKittiPoses((dir / "poses_truth.txt").string(), truth);
+  io::WriteKittiPoses((dir / "poses_gt.txt").string(), poses_gt);
   io::WriteKittiPoses((dir / "poses_estimate.txt").string(), estimate);
   eval::TrajectoryPlot plot;
   plot.title = kitti.has_segments()
@@ -98,9 +98,9 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
                          Fixed(ate.translation_m.rmse, 3) + " m"
                    : "Simulated drive: ATE " + Fixed(ate.translation_m.rmse, 3) + " m";
   plot.subtitle = "plucker demo, LiDAR frame (T_s0_si), " + std::to_string(frames) + " frames";
-  plot.gt_positions = eval::Positions(truth);
-  plot.est_positions = eval::Positions(ate.aligned_estimate);
-  plot.est_label = "estimate (se3 aligned)";
+  plot.positions_gt = eval::Positions(poses_gt);
+  plot.positions_est = eval::Positions(ate.aligned_estimate);
+  plot.label_est = "estimate (se3 aligned)";
   plot.error_title = "Position error per pose (after se3 alignment)";
   plot.error_y_label = "position error [m]";
   eval::PlotSeries series;
@@ -125,7 +125,7 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   }
   io::WriteFileAtomically((dir / "summary.json").string(), summary.dump(2) + "\n");
   std::printf(
-      "  wrote %s/{poses_truth,poses_estimate}.txt (KITTI format, LiDAR frame), "
+      "  wrote %s/{poses_gt,poses_estimate}.txt (KITTI format, LiDAR frame), "
       "trajectory.svg, summary.json\n",
       dir.string().c_str());
   return 0;

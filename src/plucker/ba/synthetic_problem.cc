@@ -54,8 +54,8 @@ SyntheticProblem MakeSyntheticProblem(const SyntheticProblemOptions& options) {
         MaxPairAngleDeg(rays, false) < options.min_point_parallax_deg) {
       continue;
     }
-    point_index[id] = static_cast<int>(p.points_truth.size());
-    p.points_truth.push_back(s.scene.points_w[id]);
+    point_index[id] = static_cast<int>(p.points_gt.size());
+    p.points_gt.push_back(s.scene.points_w[id]);
     p.initial.points_w.push_back(s.scene.points_w[id] + Gaussian3(rng, options.point_noise_m));
   }
   for (const auto& [id, normals] : line_normals) {
@@ -64,15 +64,15 @@ SyntheticProblem MakeSyntheticProblem(const SyntheticProblemOptions& options) {
       continue;
     }
     const sim::LineSegment3& seg = s.scene.segments_w[id];
-    line_index[id] = static_cast<int>(p.segments_truth.size());
-    p.segments_truth.push_back({seg.a_w, seg.b_w});
+    line_index[id] = static_cast<int>(p.segments_gt.size());
+    p.segments_gt.push_back({seg.a_w, seg.b_w});
     const Eigen::Vector3d a = seg.a_w + Gaussian3(rng, options.line_endpoint_noise_m);
     const Eigen::Vector3d b = seg.b_w + Gaussian3(rng, options.line_endpoint_noise_m);
     p.initial.lines_w.push_back(LineFromPoints<double>(a, b));
   }
 
   p.initial.K = s.rig.K;
-  p.T_w_c_truth = s.T_w_c_gt;
+  p.T_w_c_gt = s.T_w_c_gt;
   for (std::size_t i = 0; i < s.T_w_c_gt.size(); ++i) {
     if (static_cast<int>(i) < options.num_fixed_poses) {
       p.initial.T_w_c.push_back(s.T_w_c_gt[i]);
@@ -97,12 +97,10 @@ SyntheticProblem MakeSyntheticProblem(const SyntheticProblemOptions& options) {
   return p;
 }
 
-ProblemAccuracy Evaluate(const SyntheticProblem& problem, const BundleAdjustmentData& state) {
-  ProblemAccuracy a;
-  a.poses = ComparePoses(state.T_w_c, problem.T_w_c_truth);
-  a.points_m = ComparePoints(state.points_w, problem.points_truth);
-  a.lines = CompareLines(state.lines_w, problem.segments_truth);
-  return a;
+ProblemAccuracy Evaluate(const SyntheticProblem& problem, const BundleAdjustmentData& state,
+                         eval::AlignmentMode alignment) {
+  return CompareToGroundTruth(state, problem.T_w_c_gt, problem.points_gt, problem.segments_gt,
+                              alignment);
 }
 
 }  // namespace ba

@@ -32,21 +32,17 @@ struct SyntheticProblemOptions {
 struct SyntheticProblem {
   sim::CameraSimulation simulation;
   BundleAdjustmentData initial;  // perturbed state + inlier observations
-  std::vector<SE3d> T_w_c_truth;
-  std::vector<Eigen::Vector3d> points_truth;  // same indexing as initial.points_w
-  std::vector<SegmentTruth> segments_truth;   // same indexing as initial.lines_w
+  std::vector<SE3d> T_w_c_gt;
+  std::vector<Eigen::Vector3d> points_gt;  // same indexing as initial.points_w
+  std::vector<WorldSegment> segments_gt;   // same indexing as initial.lines_w
 };
 
 // Throws std::invalid_argument for invalid options (see sim::SimulateCamera).
 SyntheticProblem MakeSyntheticProblem(const SyntheticProblemOptions& options);
 
-// Accuracy of a state against the problem's ground truth.
-struct ProblemAccuracy {
-  PoseAccuracy poses;
-  ErrorStats points_m;
-  LineAccuracy lines;
-};
-ProblemAccuracy Evaluate(const SyntheticProblem& problem, const BundleAdjustmentData& state);
+// Accuracy of a state against the problem's ground truth (CompareToGroundTruth).
+ProblemAccuracy Evaluate(const SyntheticProblem& problem, const BundleAdjustmentData& state,
+                         eval::AlignmentMode alignment = eval::AlignmentMode::kNone);
 
 }  // namespace ba
 }  // namespace plucker

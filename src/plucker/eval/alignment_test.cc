@@ -27,16 +27,16 @@ TEST(Umeyama, Sim3RecoversRotationTranslationAndScaleExactly) {
   for (int trial = 0; trial < 50; ++trial) {
     std::vector<Eigen::Vector3d> source;
     for (int i = 0; i < 30; ++i) source.push_back(verify::RandomVector(rng, 20.0));
-    Similarity truth;
-    truth.R = verify::RandomRotation(rng).toRotationMatrix();
-    truth.t = verify::RandomVector(rng, 100.0);
-    truth.scale = verify::Uniform(rng, 0.05, 20.0);
+    Similarity S_gt;
+    S_gt.R = verify::RandomRotation(rng).toRotationMatrix();
+    S_gt.t = verify::RandomVector(rng, 100.0);
+    S_gt.scale = verify::Uniform(rng, 0.05, 20.0);
     const std::optional<Similarity> S =
-        UmeyamaAlignment(source, Transform(truth, source), AlignmentMode::kSim3);
+        UmeyamaAlignment(source, Transform(S_gt, source), AlignmentMode::kSim3);
     ASSERT_TRUE(S.has_value());
-    EXPECT_LT((S->R - truth.R).norm(), 1e-9);
-    EXPECT_LT((S->t - truth.t).norm(), 1e-8);
-    EXPECT_NEAR(S->scale, truth.scale, 1e-9 * truth.scale);
+    EXPECT_LT((S->R - S_gt.R).norm(), 1e-9);
+    EXPECT_LT((S->t - S_gt.t).norm(), 1e-8);
+    EXPECT_NEAR(S->scale, S_gt.scale, 1e-9 * S_gt.scale);
   }
 }
 
@@ -44,14 +44,14 @@ TEST(Umeyama, Se3RecoversARotatedTranslatedCopyWithUnitScale) {
   verify::Rng rng(12);
   std::vector<Eigen::Vector3d> source;
   for (int i = 0; i < 20; ++i) source.push_back(verify::RandomVector(rng, 5.0));
-  Similarity truth;
-  truth.R = verify::RandomRotation(rng).toRotationMatrix();
-  truth.t = verify::RandomVector(rng, 10.0);
+  Similarity S_gt;
+  S_gt.R = verify::RandomRotation(rng).toRotationMatrix();
+  S_gt.t = verify::RandomVector(rng, 10.0);
   const std::optional<Similarity> S =
-      UmeyamaAlignment(source, Transform(truth, source), AlignmentMode::kSE3);
+      UmeyamaAlignment(source, Transform(S_gt, source), AlignmentMode::kSE3);
   ASSERT_TRUE(S.has_value());
   EXPECT_EQ(S->scale, 1.0);
-  EXPECT_LT(MaxResidual(*S, source, Transform(truth, source)), 1e-10);
+  EXPECT_LT(MaxResidual(*S, source, Transform(S_gt, source)), 1e-10);
 }
 
 TEST(Umeyama, MirroredPlanarPointsGiveARotationNotAReflection) {
@@ -116,13 +116,13 @@ TEST(AlignTrajectory, StraightDriveTakesTheRollFromTheOrientations) {
   // rigidly moved copy, so the right alignment makes every orientation agree too.
   verify::Rng rng(15);
   std::vector<SE3d> gt, est;
-  Similarity truth;
-  truth.R = verify::RandomRotation(rng).toRotationMatrix();
-  truth.t = Eigen::Vector3d(3, -2, 7);
+  Similarity S_gt;
+  S_gt.R = verify::RandomRotation(rng).toRotationMatrix();
+  S_gt.t = Eigen::Vector3d(3, -2, 7);
   for (int i = 0; i < 40; ++i) {
     gt.emplace_back(Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitZ())),
                     Eigen::Vector3d(0, 0, 1.3 * i));
-    est.push_back(truth.Apply(gt.back()));
+    est.push_back(S_gt.Apply(gt.back()));
   }
   for (AlignmentMode mode : {AlignmentMode::kSE3, AlignmentMode::kSim3}) {
     const std::optional<TrajectoryAlignment> a = AlignTrajectory(est, gt, mode);
@@ -139,13 +139,13 @@ TEST(AlignTrajectory, StraightDriveTakesTheRollFromTheOrientations) {
   for (int i = 0; i < 40; ++i) {
     curve_gt.emplace_back(Eigen::Quaterniond::Identity(),
                           Eigen::Vector3d(10 * std::sin(0.1 * i), 0, 10 * std::cos(0.1 * i)));
-    curve_est.push_back(truth.Apply(curve_gt.back()));
+    curve_est.push_back(S_gt.Apply(curve_gt.back()));
   }
   const std::optional<TrajectoryAlignment> b =
       AlignTrajectory(curve_est, curve_gt, AlignmentMode::kSE3);
   ASSERT_TRUE(b.has_value());
   EXPECT_FALSE(b->roll_from_orientations);
-  EXPECT_LT((b->S.R - truth.R.transpose()).norm(), 1e-9);
+  EXPECT_LT((b->S.R - S_gt.R.transpose()).norm(), 1e-9);
 }
 
 TEST(Umeyama, ApplyToPoseRotatesAndScales) {

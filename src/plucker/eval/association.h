@@ -22,10 +22,10 @@ struct AssociatedTrajectories {
   std::vector<SE3d> gt;  // T_ref_frame, paired element-wise with est
   std::vector<SE3d> est;
   std::vector<double> times;   // the ground-truth time of each pair; empty when by index
-  std::vector<int> gt_index;   // index of each pair in the input ground truth
-  std::vector<int> est_index;  // index of each pair in the input estimate
-  int gt_count = 0;            // input sizes
-  int est_count = 0;
+  std::vector<int> index_gt;   // index of each pair in the input ground truth
+  std::vector<int> index_est;  // index of each pair in the input estimate
+  int count_gt = 0;            // input sizes
+  int count_est = 0;
   bool by_time = false;
   double max_time_difference_used = 0.0;  // largest |t_gt - t_est| among the pairs
 };
@@ -35,9 +35,9 @@ AssociatedTrajectories AssociateByIndex(const std::vector<SE3d>& gt, const std::
 
 // Pairs by nearest timestamp. Times must be non-decreasing and sizes must match their poses.
 // Throws std::invalid_argument on bad input or when no pair is within the tolerance.
-AssociatedTrajectories AssociateByTime(const std::vector<double>& gt_times,
+AssociatedTrajectories AssociateByTime(const std::vector<double>& times_gt,
                                        const std::vector<SE3d>& gt,
-                                       const std::vector<double>& est_times,
+                                       const std::vector<double>& times_est,
                                        const std::vector<SE3d>& est,
                                        const AssociationOptions& options = {});
 

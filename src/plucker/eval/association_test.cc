@@ -24,17 +24,17 @@ TEST(Association, ByIndexNeedsEqualCounts) {
 
 TEST(Association, ByTimePairsNearestWithinToleranceOneToOne) {
   const std::vector<SE3d> gt = testing::StraightLine(5, 1.0);
-  const std::vector<double> gt_t = {0.0, 0.1, 0.2, 0.3, 0.4};
+  const std::vector<double> t_gt = {0.0, 0.1, 0.2, 0.3, 0.4};
   const std::vector<SE3d> est = testing::StraightLine(5, 2.0);
   // 0.005 -> gt 0; 0.095 and 0.11 both nearest gt 1 (0.095 closer wins); 0.25 is 0.05 away from
   // everything (unpaired at 0.02); 0.41 -> gt 4.
-  const std::vector<double> est_t = {0.005, 0.095, 0.11, 0.25, 0.41};
-  const AssociatedTrajectories p = AssociateByTime(gt_t, gt, est_t, est);
+  const std::vector<double> t_est = {0.005, 0.095, 0.11, 0.25, 0.41};
+  const AssociatedTrajectories p = AssociateByTime(t_gt, gt, t_est, est);
   EXPECT_TRUE(p.by_time);
-  EXPECT_EQ(p.gt_index, (std::vector<int>{0, 1, 4}));
-  EXPECT_EQ(p.est_index, (std::vector<int>{0, 1, 4}));
+  EXPECT_EQ(p.index_gt, (std::vector<int>{0, 1, 4}));
+  EXPECT_EQ(p.index_est, (std::vector<int>{0, 1, 4}));
   EXPECT_NEAR(p.max_time_difference_used, 0.01, 1e-12);
-  EXPECT_EQ(p.est_count, 5);
+  EXPECT_EQ(p.count_est, 5);
   EXPECT_EQ(p.times, (std::vector<double>{0.0, 0.1, 0.4}));
 }
 

@@ -276,8 +276,8 @@ std::string RenderTrajectoryPlotSvg(const TrajectoryPlot& plot) {
   if (!plot.subtitle.empty()) Text(s, W / 2, 50, plot.subtitle, 12, "middle", "fill=\"#555555\"");
 
   // Legends first: their row count decides where the plot areas start.
-  const std::vector<LegendEntry> left_legend = {{plot.gt_label, kGtColor, 'l'},
-                                                {plot.est_label, kEstColor, 'l'},
+  const std::vector<LegendEntry> left_legend = {{plot.label_gt, kGtColor, 'l'},
+                                                {plot.label_est, kEstColor, 'l'},
                                                 {"start", "#777777", 'o'},
                                                 {"end", "#777777", 's'}};
   std::vector<LegendEntry> right_legend;
@@ -294,18 +294,18 @@ std::string RenderTrajectoryPlotSvg(const TrajectoryPlot& plot) {
   left.py = top;
   left.pw = W / 2 - left.px - 30;
   left.ph = bottom - top;
-  std::vector<Eigen::Vector3d> all = plot.gt_positions;
-  all.insert(all.end(), plot.est_positions.begin(), plot.est_positions.end());
+  std::vector<Eigen::Vector3d> all = plot.positions_gt;
+  all.insert(all.end(), plot.positions_est.begin(), plot.positions_est.end());
   const std::pair<int, int> axes =
-      PlotAxes(plot.gt_positions.empty() ? all : plot.gt_positions, plot.plane);
+      PlotAxes(plot.positions_gt.empty() ? all : plot.positions_gt, plot.plane);
   auto project = [&](const std::vector<Eigen::Vector3d>& p) {
     std::vector<Eigen::Vector2d> out;
     out.reserve(p.size());
     for (const Eigen::Vector3d& v : p) out.emplace_back(v(axes.first), v(axes.second));
     return out;
   };
-  const std::vector<Eigen::Vector2d> gt2 = project(plot.gt_positions);
-  const std::vector<Eigen::Vector2d> est2 = project(plot.est_positions);
+  const std::vector<Eigen::Vector2d> gt2 = project(plot.positions_gt);
+  const std::vector<Eigen::Vector2d> est2 = project(plot.positions_est);
   {
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
     for (const auto* v : {&gt2, &est2}) {

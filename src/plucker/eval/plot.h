@@ -35,10 +35,10 @@ struct PlotSeries {
 struct TrajectoryPlot {
   std::string title;     // e.g. "ATE (se3 aligned): RMSE 0.412 m over 4541 poses"
   std::string subtitle;  // e.g. the file names
-  std::vector<Eigen::Vector3d> gt_positions;
-  std::vector<Eigen::Vector3d> est_positions;
-  std::string gt_label = "ground truth";
-  std::string est_label = "estimate";
+  std::vector<Eigen::Vector3d> positions_gt;
+  std::vector<Eigen::Vector3d> positions_est;
+  std::string label_gt = "ground truth";
+  std::string label_est = "estimate";
   PlotPlane plane = PlotPlane::kAuto;
 
   std::string error_title;  // title of the right panel

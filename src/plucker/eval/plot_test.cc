@@ -38,9 +38,9 @@ TEST(Plot, NiceTicksAreRoundAndCoverTheRange) {
 TrajectoryPlot SomePlot() {
   TrajectoryPlot plot;
   plot.title = "ATE <se3> & more";
-  plot.gt_positions = Positions(testing::Curve(100));
-  plot.est_positions = plot.gt_positions;
-  for (auto& p : plot.est_positions) p.x() += 0.3;
+  plot.positions_gt = Positions(testing::Curve(100));
+  plot.positions_est = plot.positions_gt;
+  for (auto& p : plot.positions_est) p.x() += 0.3;
   plot.error_title = "Position error per pose";
   plot.error_y_label = "position error [m]";
   PlotSeries s;
@@ -81,8 +81,8 @@ TEST(Plot, EmptyErrorPanelShowsTheMessage) {
 
 TEST(Plot, DegenerateInputStillRendersWithoutNaN) {
   TrajectoryPlot plot;
-  plot.gt_positions = {Eigen::Vector3d(1, 1, 1)};
-  plot.est_positions = {Eigen::Vector3d(1, 1, 1)};
+  plot.positions_gt = {Eigen::Vector3d(1, 1, 1)};
+  plot.positions_est = {Eigen::Vector3d(1, 1, 1)};
   PlotSeries s;
   s.points = {{0, 0}, {std::nan(""), 1}};
   plot.error_series.push_back(s);

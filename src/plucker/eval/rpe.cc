@@ -44,9 +44,9 @@ RpeResult ComputeRpe(const std::vector<SE3d>& gt, const std::vector<SE3d>& est,
       while (j < n && dist[j] - dist[i] < options.delta) ++j;
       if (j >= n) break;
     }
-    const SE3d gt_ij = gt[i].Inverse() * gt[j];
+    const SE3d ij_gt = gt[i].Inverse() * gt[j];
     const SE3d est_ij = r.aligned_estimate[i].Inverse() * r.aligned_estimate[j];
-    const SE3d E = gt_ij.Inverse() * est_ij;
+    const SE3d E = ij_gt.Inverse() * est_ij;
     r.first.push_back(i);
     r.last.push_back(j);
     r.translation_errors.push_back(E.translation().norm());
