@@ -1,10 +1,17 @@
-# plucker_add_library(NAME <layer> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# plucker_add_library(NAME <layer> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [NOT_INSTALLED])
 #   Creates target plucker_<layer> (alias plucker::<layer>), installed and exported.
 #   Headers are included as "plucker/<layer>/x.h" from src/.
+#   NOT_INSTALLED: test and benchmark scaffolding (verify, testing): a static library for the
+#   tests, benchmarks and the CLI, neither installed nor exported (an installed library that
+#   linked it would make the export fail, so the package cannot come to depend on it).
 function(plucker_add_library)
-  cmake_parse_arguments(ARG "" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "NOT_INSTALLED" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   set(target plucker_${ARG_NAME})
-  add_library(${target} ${ARG_SOURCES})
+  if(ARG_NOT_INSTALLED)
+    add_library(${target} STATIC ${ARG_SOURCES})
+  else()
+    add_library(${target} ${ARG_SOURCES})
+  endif()
   add_library(plucker::${ARG_NAME} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME} POSITION_INDEPENDENT_CODE ON)
   target_include_directories(${target} PUBLIC
@@ -12,11 +19,15 @@ function(plucker_add_library)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_compile_options(${target} PRIVATE -Wall -Wextra)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  if(ARG_NOT_INSTALLED)
+    return()
+  endif()
   install(TARGETS ${target} EXPORT pluckerTargets
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   file(GLOB headers "${CMAKE_CURRENT_SOURCE_DIR}/*.h")
-  list(FILTER headers EXCLUDE REGEX "_test_utils\\.h$")
+  # Test scaffolding that lives next to the code it tests is not installed either.
+  list(FILTER headers EXCLUDE REGEX "(_test_utils|fuzz_util)\\.h$")
   install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/plucker/${ARG_NAME})
 endfunction()
 
@@ -35,12 +46,18 @@ function(plucker_add_test)
   gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
 endfunction()
 
-# plucker_add_layer(NAME <layer> [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [TEST_DEPS ...])
+# plucker_add_layer(NAME <layer> [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [TEST_DEPS ...]
+#                   [NOT_INSTALLED])
 #   The library is every *.cc of the folder except *_test.cc, *_fuzz.cc and *_benchmark.cc;
 #   every *_test.cc becomes its own test executable <layer>_<file> linked with the layer,
 #   plucker::verify and TEST_DEPS. New files are picked up at the next build (CONFIGURE_DEPENDS).
+#   NOT_INSTALLED: see plucker_add_library (scaffolding layers: verify, testing).
 function(plucker_add_layer)
-  cmake_parse_arguments(ARG "" "NAME" "PUBLIC_DEPS;PRIVATE_DEPS;TEST_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "NOT_INSTALLED" "NAME" "PUBLIC_DEPS;PRIVATE_DEPS;TEST_DEPS" ${ARGN})
+  set(not_installed)
+  if(ARG_NOT_INSTALLED)
+    set(not_installed NOT_INSTALLED)
+  endif()
   file(GLOB sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*.cc")
   list(FILTER sources EXCLUDE REGEX "_(test|fuzz|benchmark)\\.cc$")
   if(NOT sources)
@@ -49,10 +66,12 @@ function(plucker_add_layer)
     add_library(plucker::${ARG_NAME} ALIAS plucker_${ARG_NAME})
     target_link_libraries(plucker_${ARG_NAME} INTERFACE ${ARG_PUBLIC_DEPS})
     set_target_properties(plucker_${ARG_NAME} PROPERTIES EXPORT_NAME ${ARG_NAME})
-    install(TARGETS plucker_${ARG_NAME} EXPORT pluckerTargets)
+    if(NOT ARG_NOT_INSTALLED)
+      install(TARGETS plucker_${ARG_NAME} EXPORT pluckerTargets)
+    endif()
     return()
   endif()
-  plucker_add_library(NAME ${ARG_NAME} SOURCES ${sources}
+  plucker_add_library(NAME ${ARG_NAME} SOURCES ${sources} ${not_installed}
     PUBLIC_DEPS ${ARG_PUBLIC_DEPS} PRIVATE_DEPS ${ARG_PRIVATE_DEPS})
   file(GLOB tests CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc")
   foreach(test_source ${tests})

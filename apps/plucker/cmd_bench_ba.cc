@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "plucker/ba/synthetic_problem.h"
+#include "plucker/testing/synthetic_problem.h"
 
 namespace plucker {
 namespace app {

@@ -13,10 +13,10 @@
 
 #include "commands.h"
 #include "demo_lidar.h"
-#include "plucker/ba/synthetic_problem.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/io/trajectory_io.h"
+#include "plucker/testing/synthetic_problem.h"
 
 namespace plucker {
 namespace app {

@@ -1,7 +1,5 @@
 // `plucker lidar`: LOAM-style LiDAR odometry on a recorded sequence (KITTI layout, simulator
 // output or a folder of PCD files). docs/lidar-odometry.md describes the options and the results.
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,14 +16,15 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "lidar_options_table.h"
 #include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/ply.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/lidar/odometry.h"
-#include "plucker/lidar/sensor_model.h"
 #include "plucker/lidar/voxel_map.h"
+#include "plucker/sensor/lidar_model.h"
 
 namespace plucker {
 namespace app {
@@ -40,132 +39,6 @@ struct LidarArgs {
   int threads = 1;
   double map_voxel = 0.2;
 };
-
-// ---- YAML configuration -------------------------------------------------------------------
-// Every key of config/lidar_default.yaml; unknown keys and wrong types are errors naming the file
-// and the key.
-class ConfigBinder {
- public:
-  using Setter = std::function<void(const YAML::Node&)>;
-  void Number(const std::string& key, double* v) {
-    setters_[key] = [v](const YAML::Node& n) { *v = n.as<double>(); };
-    kinds_[key] = "a number";
-  }
-  void Integer(const std::string& key, int* v) {
-    setters_[key] = [v](const YAML::Node& n) { *v = n.as<int>(); };
-    kinds_[key] = "an integer";
-  }
-  void Bool(const std::string& key, bool* v) {
-    setters_[key] = [v](const YAML::Node& n) { *v = n.as<bool>(); };
-    kinds_[key] = "true or false";
-  }
-  void Text(const std::string& key, const std::string& kind, Setter s) {
-    setters_[key] = std::move(s);
-    kinds_[key] = kind;
-  }
-  void Apply(const YAML::Node& node, const std::string& prefix, const std::string& file) const {
-    if (!node.IsMap()) {
-      throw std::runtime_error(file + ": " +
-                               (prefix.empty() ? "top level" : "key '" + prefix + "'") +
-                               " must be a mapping");
-    }
-    for (const auto& kv : node) {
-      const std::string key = (prefix.empty() ? "" : prefix + ".") + kv.first.as<std::string>();
-      if (kv.second.IsMap()) {
-        Apply(kv.second, key, file);
-        continue;
-      }
-      const auto it = setters_.find(key);
-      if (it == setters_.end()) throw std::runtime_error(file + ": unknown key '" + key + "'");
-      if (!kv.second.IsScalar()) {
-        throw std::runtime_error(file + ": key '" + key + "': expected " + kinds_.at(key));
-      }
-      try {
-        it->second(kv.second);
-      } catch (const YAML::Exception&) {
-        throw std::runtime_error(file + ": key '" + key + "': expected " + kinds_.at(key) +
-                                 ", got '" + kv.second.Scalar() + "'");
-      } catch (const std::invalid_argument& e) {
-        throw std::runtime_error(file + ": key '" + key + "': " + e.what());
-      }
-    }
-  }
-
- private:
-  std::map<std::string, Setter> setters_;
-  std::map<std::string, std::string> kinds_;
-};
-
-void LoadConfig(const std::string& path, lidar::LidarOdometryOptions* o, double* map_voxel) {
-  ConfigBinder b;
-  lidar::FeatureOptions& f = o->features;
-  b.Number("features.min_range", &f.min_range);
-  b.Number("features.max_range", &f.max_range);
-  b.Integer("features.curvature_half_window", &f.curvature_half_window);
-  b.Integer("features.sectors", &f.sectors);
-  b.Integer("features.max_sharp_per_sector", &f.max_sharp_per_sector);
-  b.Integer("features.max_edges_per_sector", &f.max_edges_per_sector);
-  b.Integer("features.max_flat_per_sector", &f.max_flat_per_sector);
-  b.Number("features.edge_threshold", &f.edge_threshold);
-  b.Number("features.plane_threshold", &f.plane_threshold);
-  b.Number("features.suppression_distance", &f.suppression_distance);
-  b.Number("features.occlusion_depth_jump", &f.occlusion_depth_jump);
-  b.Number("features.occlusion_max_gap", &f.occlusion_max_gap);
-  b.Number("features.parallel_beam_ratio", &f.parallel_beam_ratio);
-  b.Number("features.edge_voxel_size", &f.edge_voxel_size);
-  b.Number("features.plane_voxel_size", &f.plane_voxel_size);
-  b.Number("features.scan_period", &f.scan_period);
-  for (auto [name, m] :
-       {std::make_pair("edge_map", &o->edge_map), std::make_pair("plane_map", &o->plane_map)}) {
-    const std::string p = name;
-    b.Number(p + ".voxel_size", &m->voxel_size);
-    b.Integer(p + ".max_points_per_voxel", &m->max_points_per_voxel);
-    b.Number(p + ".min_point_distance", &m->min_point_distance);
-    b.Number(p + ".max_distance", &m->max_distance);
-  }
-  b.Integer("registration.num_neighbours", &o->num_neighbours);
-  b.Number("registration.max_correspondence_distance", &o->max_correspondence_distance);
-  b.Number("registration.edge_eigen_ratio", &o->edge_eigen_ratio);
-  b.Number("registration.plane_max_residual", &o->plane_max_residual);
-  b.Number("registration.edge_sigma", &o->edge_sigma);
-  b.Number("registration.plane_sigma", &o->plane_sigma);
-  b.Text("registration.loss", "huber, cauchy or none",
-         [o](const YAML::Node& n) { o->loss = lidar::ParseRobustLoss(n.as<std::string>()); });
-  b.Number("registration.loss_scale", &o->loss_scale);
-  b.Bool("registration.use_edges", &o->use_edges);
-  b.Integer("registration.association_rounds", &o->association_rounds);
-  b.Integer("registration.max_association_rounds", &o->max_association_rounds);
-  b.Number("registration.convergence_translation", &o->convergence_translation);
-  b.Number("registration.convergence_rotation_deg", &o->convergence_rotation_deg);
-  b.Integer("registration.max_iterations", &o->max_iterations);
-  b.Integer("registration.max_edge_points", &o->max_edge_points);
-  b.Integer("registration.max_plane_points", &o->max_plane_points);
-  b.Integer("registration.min_correspondences", &o->min_correspondences);
-  b.Bool("registration.constant_velocity", &o->constant_velocity);
-  b.Number("degeneracy.threshold", &o->degeneracy_threshold);
-  b.Number("degeneracy.rotation_threshold", &o->degeneracy_rotation_threshold);
-  b.Number("degeneracy.max_normal_alignment", &o->degeneracy_max_normal_alignment);
-  b.Number("degeneracy.max_rotation_information", &o->degeneracy_max_rotation_information);
-  b.Bool("degeneracy.handle", &o->handle_degeneracy);
-  b.Text("deskew", "auto, on or off",
-         [o](const YAML::Node& n) { o->deskew = lidar::ParseDeskewMode(n.as<std::string>()); });
-  b.Text("ring_source", "auto, scan_order, elevation or auto_elevation", [o](const YAML::Node& n) {
-    o->ring_source = lidar::ParseRingSource(n.as<std::string>());
-  });
-  b.Integer("map_cleanup_every", &o->map_cleanup_every);
-  b.Number("output.map_voxel_size", map_voxel);
-
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(path + ": cannot open");
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": invalid YAML: " + e.msg);
-  }
-  if (root.IsNull()) return;  // an empty file keeps the defaults
-  b.Apply(root, "", path);
-}
 
 // ---- Helpers ------------------------------------------------------------------------------
 std::string Canonical(const std::string& path) {
@@ -207,11 +80,13 @@ nlohmann::json Vec(const Eigen::MatrixBase<Derived>& v) {
 }
 
 int RunLidar(const LidarArgs& a) {
-  lidar::LidarOdometryOptions options;
-  double map_voxel = a.map_voxel;
-  if (!a.config.empty()) LoadConfig(a.config, &options, &map_voxel);
+  LidarConfig config;
+  config.map_voxel_size = a.map_voxel;
+  if (!a.config.empty()) LoadLidarConfig(a.config, &config);
+  lidar::LidarOdometryOptions options = config.odometry;
+  const double map_voxel = config.map_voxel_size;
   options.num_threads = std::max(1, a.threads);
-  if (a.sensor != "auto") lidar::FromName(a.sensor);  // validates the name
+  if (a.sensor != "auto") sensor::LidarModelFromName(a.sensor);  // validates the name
   options.sensor = a.sensor;
   if (a.frame != "cam0" && a.frame != "lidar")
     throw std::runtime_error("--frame must be cam0 or lidar, got '" + a.frame + "'");
@@ -406,7 +281,9 @@ void RegisterLidar(CLI::App& app, int* exit_code) {
   cmd->add_option("--sequence", args->sequence, "KITTI sequence under DATA/sequences (e.g. 00)");
   cmd->add_option("--out", args->out, "Output poses, KITTI format (cam0 frame when Tr is known)")
       ->required();
-  cmd->add_option("--config", args->config, "YAML options (see config/lidar_default.yaml)");
+  cmd->add_option("--config", args->config,
+                  "YAML options (every key with its default: `plucker config lidar`, "
+                  "config/lidar_default.yaml)");
   cmd->add_option("--sensor", args->sensor, "hdl64 | vlp32 | vlp16 | auto (rings from elevation)")
       ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16", "auto"}));
   cmd->add_option("--map", args->map, "Write the accumulated, voxel-downsampled map (PLY)");

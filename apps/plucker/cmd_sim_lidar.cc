@@ -18,7 +18,7 @@
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
 #include "plucker/io/trajectory_io.h"
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
 
@@ -75,7 +75,7 @@ std::string FrameName(int i, const char* ext) {
 int Run(const SimLidarArgs& args) {
   if (args.frames < 1) throw std::invalid_argument("--frames must be >= 1");
   if (!(args.noise >= 0)) throw std::invalid_argument("--noise must be >= 0");
-  const lidar::SensorModel sensor = lidar::FromName(args.sensor);
+  const sensor::LidarModel sensor = sensor::LidarModelFromName(args.sensor);
   const sim::LidarScene scene = sim::MakeScene(args.scene, args.seed);
   const sim::VehicleTrajectory trajectory(scene.route);
 

@@ -19,7 +19,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/lidar/odometry.h"
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
@@ -37,7 +37,7 @@ std::string Fixed(double v, int digits) {
 
 int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t seed) {
   std::printf("== LiDAR: odometry on a simulated 64-beam drive through a street grid ==\n");
-  const lidar::SensorModel sensor = lidar::HDL64();
+  const sensor::LidarModel sensor = sensor::HDL64();
   const sim::LidarScene scene = sim::MakeScene("urban", seed);
   const sim::VehicleTrajectory trajectory(scene.route);
   const sim::LidarSimOptions sim_options =

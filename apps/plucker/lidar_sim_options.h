@@ -4,13 +4,13 @@
 
 #include <cstdint>
 
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
 namespace app {
 
-inline sim::LidarSimOptions LidarSimOptionsFor(const lidar::SensorModel& sensor,
+inline sim::LidarSimOptions LidarSimOptionsFor(const sensor::LidarModel& sensor,
                                                double range_noise_sigma, bool distortion,
                                                std::uint64_t seed) {
   sim::LidarSimOptions options;

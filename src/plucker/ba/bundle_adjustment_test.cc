@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "plucker/ba/synthetic_problem.h"
+#include "plucker/testing/synthetic_problem.h"
 
 namespace plucker {
 namespace ba {

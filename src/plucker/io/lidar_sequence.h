@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/scan_stats.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace io {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/scan_stats.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace io {

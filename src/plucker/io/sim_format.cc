@@ -267,7 +267,7 @@ void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts
     (void)n;
     if (!by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
   }
-  sim::CameraRig& rig = sim->rig;
+  sensor::CameraRig& rig = sim->rig;
   const Record& image = *by_key["image"];
   rig.width = static_cast<int>(p.Int(image, 1, 2, 1 << 20));
   rig.height = static_cast<int>(p.Int(image, 2, 2, 1 << 20));
@@ -356,7 +356,7 @@ void ReadImu(const std::string& path, sim::CameraSimulation* sim) {
   const FileParser p(path);
   for (const Record& r : p.records()) {
     p.ExpectFields(r, 13, "imu row (t gyro accel gyro_bias accel_bias)");
-    sim::ImuSample s;
+    sensor::ImuSample s;
     s.t = p.Double(r, 0);
     if (!sim->imu.empty() && !(s.t > sim->imu.back().t)) p.Fail(r, "imu times must increase");
     s.gyro = p.Vec3(r, 1);
@@ -373,7 +373,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
   const FileParser pp(points_path);
   for (const Record& r : pp.records()) {
     pp.ExpectFields(r, 4, "point observation (frame point_id u v)");
-    sim::PointObservation o;
+    sensor::PointObservation o;
     o.frame = static_cast<int>(pp.Int(r, 0, 0, last_frame));
     o.point_id =
         static_cast<int>(pp.Int(r, 1, -1, static_cast<long long>(sim->scene.points_w.size()) - 1));
@@ -387,7 +387,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
   const FileParser sp(segments_path);
   for (const Record& r : sp.records()) {
     sp.ExpectFields(r, 6, "segment observation (frame line_id su sv eu ev)");
-    sim::SegmentObservation o;
+    sensor::SegmentObservation o;
     o.frame = static_cast<int>(sp.Int(r, 0, 0, last_frame));
     o.line_id = static_cast<int>(
         sp.Int(r, 1, -1, static_cast<long long>(sim->scene.segments_w.size()) - 1));
@@ -428,7 +428,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   const std::string header = std::string(kHeader) + " (docs/sim-format.md), format 1\n";
   {
     Writer w(Join(dir, "rig.txt"));
-    const sim::CameraRig& rig = sim.rig;
+    const sensor::CameraRig& rig = sim.rig;
     const sim::ImuOptions& imu = sim.imu_options;
     const sim::ObservationOptions& obs = sim.obs_options;
     w.Text(header).Text("# camera rig, IMU and observation noise models\n");
@@ -496,7 +496,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   {
     Writer w(Join(dir, "imu.txt"));
     w.Text(header).Text("# t gx gy gz ax ay az bgx bgy bgz bax bay baz (biases: ground truth)\n");
-    for (const sim::ImuSample& s : sim.imu) {
+    for (const sensor::ImuSample& s : sim.imu) {
       w.Num(s.t).Vec(s.gyro).Vec(s.accel).Vec(s.gyro_bias).Vec(s.accel_bias).EndLine();
     }
     w.Commit();
@@ -504,7 +504,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   {
     Writer w(Join(dir, "points.txt"));
     w.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
-    for (const sim::PointObservation& o : sim.points) {
+    for (const sensor::PointObservation& o : sim.points) {
       w.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
     }
     w.Commit();
@@ -512,7 +512,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   {
     Writer w(Join(dir, "segments.txt"));
     w.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
-    for (const sim::SegmentObservation& o : sim.segments) {
+    for (const sensor::SegmentObservation& o : sim.segments) {
       w.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
     }
     w.Commit();

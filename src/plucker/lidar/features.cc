@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "plucker/lidar/fast_atan2.h"
+#include "plucker/geometry/fast_atan2.h"
 #include "plucker/lidar/voxel_key.h"
 
 namespace plucker {

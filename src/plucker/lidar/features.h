@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace lidar {
@@ -71,7 +71,7 @@ struct ScanFeatures {
 };
 
 // Extracts features. `scan.ring` must be filled (same size as points, 0..N-1; see
-// lidar/sensor_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be
+// sensor/lidar_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be
 // in firing order. Returns false with `*error` set when the scan is unusable (no rings, mismatched
 // channel sizes, fewer than 2k+1 valid points on every ring). Non-finite points are skipped
 // (counted as invalid).

@@ -14,10 +14,17 @@
 #include "plucker/factors/lidar_factors.h"
 #include "plucker/lidar/deskew.h"
 #include "plucker/lidar/pose_solver.h"
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 
 namespace plucker {
 namespace lidar {
+
+using sensor::AssignRings;
+using sensor::AssignRingsFromScanOrder;
+using sensor::AutoDetectSensor;
+using sensor::LidarModel;
+using sensor::LidarModelFromName;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -81,27 +88,6 @@ double ThreadCpuMs() {
   return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
-RobustLoss ParseRobustLoss(const std::string& name) {
-  if (name == "huber") return RobustLoss::kHuber;
-  if (name == "cauchy") return RobustLoss::kCauchy;
-  if (name == "none") return RobustLoss::kNone;
-  throw std::invalid_argument("unknown loss '" + name + "' (huber, cauchy, none)");
-}
-DeskewMode ParseDeskewMode(const std::string& name) {
-  if (name == "auto") return DeskewMode::kAuto;
-  if (name == "on") return DeskewMode::kOn;
-  if (name == "off") return DeskewMode::kOff;
-  throw std::invalid_argument("unknown deskew mode '" + name + "' (auto, on, off)");
-}
-RingSource ParseRingSource(const std::string& name) {
-  if (name == "auto") return RingSource::kAuto;
-  if (name == "scan_order") return RingSource::kScanOrder;
-  if (name == "elevation") return RingSource::kElevation;
-  if (name == "auto_elevation") return RingSource::kAutoElevation;
-  throw std::invalid_argument("unknown ring source '" + name +
-                              "' (auto, scan_order, elevation, auto_elevation)");
-}
-
 class LidarOdometry::Impl {
  public:
   explicit Impl(int num_threads) : num_threads(std::max(1, num_threads)) {
@@ -144,7 +130,7 @@ class LidarOdometry::Impl {
   int num_threads;
   std::unique_ptr<tbb::task_arena> arena;
   std::unique_ptr<ceres::LossFunction> loss;
-  std::optional<SensorModel> sensor;
+  std::optional<LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<PlaneMatch> planes;
   std::vector<EdgeMatch> edges;
@@ -176,7 +162,7 @@ LidarOdometry::LidarOdometry(const LidarOdometryOptions& options)
     case RobustLoss::kNone:
       break;
   }
-  if (options_.sensor != "auto") impl_->sensor = FromName(options_.sensor);
+  if (options_.sensor != "auto") impl_->sensor = LidarModelFromName(options_.sensor);
 }
 
 LidarOdometry::~LidarOdometry() = default;

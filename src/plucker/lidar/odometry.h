@@ -27,11 +27,11 @@
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/lidar/degeneracy.h"
 #include "plucker/lidar/features.h"
 #include "plucker/lidar/voxel_map.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace lidar {
@@ -142,12 +142,6 @@ class LidarOdometry {
   std::vector<SE3d> poses_;  // one per processed or skipped frame
   std::unique_ptr<Impl> impl_;
 };
-
-// Parses the names used in config files ("huber", "cauchy", "none"; "auto", "on", "off";
-// "auto", "scan_order", "elevation", "auto_elevation"); throw std::invalid_argument otherwise.
-RobustLoss ParseRobustLoss(const std::string& name);
-DeskewMode ParseDeskewMode(const std::string& name);
-RingSource ParseRingSource(const std::string& name);
 
 }  // namespace lidar
 }  // namespace plucker

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace lidar {

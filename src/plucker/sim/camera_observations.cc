@@ -23,6 +23,15 @@ SE3d DefaultBodyCameraPose() {
   return CanonicalPose(SE3d(DefaultRotationBodyCamera(), Vector3d(0.05, -0.02, 0.01)));
 }
 
+sensor::CameraRig DefaultRig() {
+  sensor::CameraRig rig;
+  rig.K = PinholeIntrinsics{400.0, 400.0, 319.5, 239.5};
+  rig.width = 640;
+  rig.height = 480;
+  rig.T_b_c = DefaultBodyCameraPose();
+  return rig;
+}
+
 namespace {
 
 bool IsNormalizationFixedPoint(const Eigen::Quaterniond& q) {
@@ -69,7 +78,7 @@ Vector2d Project(const PinholeIntrinsics& K, const Vector3d& p_c) {
   return Vector2d(K.fx * p_c.x() / p_c.z() + K.cx, K.fy * p_c.y() / p_c.z() + K.cy);
 }
 
-void ValidateRig(const CameraRig& rig) {
+void ValidateRig(const sensor::CameraRig& rig) {
   if (!rig.K.IsValid() || rig.width < 2 || rig.height < 2 || !rig.T_b_c.translation().allFinite() ||
       !rig.T_b_c.rotation().coeffs().allFinite()) {
     throw std::invalid_argument("camera rig: invalid intrinsics, image size or extrinsic");
@@ -103,7 +112,7 @@ int OutliersDue(double ratio, long long inliers_so_far, long long outliers_so_fa
 }  // namespace
 
 std::optional<Vector2d> ProjectVisiblePoint(const Vector3d& p_w, const SE3d& T_w_c,
-                                            const CameraRig& rig, double min_depth,
+                                            const sensor::CameraRig& rig, double min_depth,
                                             double max_depth) {
   const Vector3d p_c = T_w_c.rotation().conjugate() * (p_w - T_w_c.translation());
   if (!(p_c.z() >= min_depth && p_c.z() <= max_depth)) return std::nullopt;
@@ -116,7 +125,7 @@ std::optional<Vector2d> ProjectVisiblePoint(const Vector3d& p_w, const SE3d& T_w
 }
 
 std::optional<ClippedSegment> ClipSegmentToImage(const LineSegment3& segment_w, const SE3d& T_w_c,
-                                                 const CameraRig& rig, double min_depth,
+                                                 const sensor::CameraRig& rig, double min_depth,
                                                  double max_depth) {
   if (!(min_depth > 0.0) || !(max_depth > min_depth)) return std::nullopt;
   const Eigen::Quaterniond q_c_w = T_w_c.rotation().conjugate();
@@ -160,7 +169,7 @@ std::optional<ClippedSegment> ClipSegmentToImage(const LineSegment3& segment_w, 
   return c;
 }
 
-CameraObservations ObserveScene(const Scene& scene, const CameraRig& rig,
+CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig,
                                 const std::vector<SE3d>& T_w_c, const ObservationOptions& options,
                                 std::uint64_t seed) {
   ValidateRig(rig);

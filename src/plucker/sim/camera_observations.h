@@ -17,8 +17,9 @@
 #include <optional>
 #include <vector>
 
-#include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/camera_observations.h"
+#include "plucker/sensor/camera_rig.h"
 #include "plucker/sim/imu.h"
 #include "plucker/sim/scene.h"
 #include "plucker/sim/trajectory.h"
@@ -37,25 +38,12 @@ SE3d DefaultBodyCameraPose();
 // SimulateCamera returns is canonical.
 SE3d CanonicalPose(const SE3d& T);
 
-struct CameraRig {
-  PinholeIntrinsics K{400.0, 400.0, 319.5, 239.5};
-  int width = 640;
-  int height = 480;
-  SE3d T_b_c = DefaultBodyCameraPose();
-};
+// The simulated rig: a 640 x 480 pinhole with fx = fy = 400 and the principal point at the
+// image centre, mounted at DefaultBodyCameraPose().
+sensor::CameraRig DefaultRig();
 
-struct PointObservation {
-  int frame = 0;
-  int point_id = -1;  // index into Scene::points_w; -1 for an outlier
-  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
-};
-
-struct SegmentObservation {
-  int frame = 0;
-  int line_id = -1;  // index into Scene::segments_w; -1 for an outlier
-  Eigen::Vector2d s_px = Eigen::Vector2d::Zero();
-  Eigen::Vector2d e_px = Eigen::Vector2d::Zero();
-};
+// Observations (sensor/camera_observations.h): point_id indexes Scene::points_w, line_id
+// Scene::segments_w; -1 is an outlier.
 
 struct ObservationOptions {
   double pixel_sigma = 1.0;      // px, noise on every point / endpoint coordinate
@@ -76,11 +64,11 @@ struct ClippedSegment {
 
 // Noise-free projection of p_w, or nullopt when it is not visible (see the file comment).
 std::optional<Eigen::Vector2d> ProjectVisiblePoint(const Eigen::Vector3d& p_w, const SE3d& T_w_c,
-                                                   const CameraRig& rig, double min_depth,
+                                                   const sensor::CameraRig& rig, double min_depth,
                                                    double max_depth);
 // Clips in 3D (Liang-Barsky on the segment parameter); nullopt if nothing is left.
 std::optional<ClippedSegment> ClipSegmentToImage(const LineSegment3& segment_w, const SE3d& T_w_c,
-                                                 const CameraRig& rig, double min_depth,
+                                                 const sensor::CameraRig& rig, double min_depth,
                                                  double max_depth);
 
 struct ObservationStats {
@@ -89,30 +77,30 @@ struct ObservationStats {
 };
 
 struct CameraObservations {
-  std::vector<PointObservation> points;      // sorted by frame; inliers by id, then outliers
-  std::vector<SegmentObservation> segments;  // same order
+  std::vector<sensor::PointObservation> points;  // sorted by frame; inliers by id, then outliers
+  std::vector<sensor::SegmentObservation> segments;  // same order
   ObservationStats stats;
 };
 
 // Observes the scene from every camera pose (frame i = T_w_c[i]). Throws std::invalid_argument
 // for invalid options or rig.
-CameraObservations ObserveScene(const Scene& scene, const CameraRig& rig,
+CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig,
                                 const std::vector<SE3d>& T_w_c, const ObservationOptions& options,
                                 std::uint64_t seed);
 
 // Ground truth and measurements of one simulated camera + IMU sequence.
 struct CameraSimulation {
   Scene scene;
-  CameraRig rig;
+  sensor::CameraRig rig;
   ImuOptions imu_options;           // the noise model the IMU samples were drawn with
   ObservationOptions obs_options;   // the pixel noise / outlier model of the observations
   std::vector<double> frame_times;  // s
   std::vector<SE3d> T_w_c_gt;       // = T_w_b_gt[i] * rig.T_b_c (to the last bit)
   std::vector<SE3d> T_w_b_gt;
   std::vector<Eigen::Vector3d> v_w_gt;  // body velocity at the frame times
-  std::vector<PointObservation> points;
-  std::vector<SegmentObservation> segments;
-  std::vector<ImuSample> imu;
+  std::vector<sensor::PointObservation> points;
+  std::vector<sensor::SegmentObservation> segments;
+  std::vector<sensor::ImuSample> imu;
   ObservationStats stats;
 };
 
@@ -121,7 +109,7 @@ struct CameraSimulationOptions {
   TrajectoryOptions trajectory;  // duration is overwritten with (num_frames - 1) / frame_rate_hz
   ImuOptions imu;
   ObservationOptions obs;
-  CameraRig rig;
+  sensor::CameraRig rig = DefaultRig();
   int num_frames = 100;
   double frame_rate_hz = 10.0;
   bool simulate_imu = true;

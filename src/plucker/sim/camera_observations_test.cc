@@ -39,7 +39,7 @@ double PixelDistanceToLine(const Vector2d& uv, const Eigen::Vector3d& l) {
   return (l(0) * uv.x() + l(1) * uv.y() + l(2)) / l.head<2>().norm();
 }
 
-bool InsideImage(const Vector2d& uv, const CameraRig& rig, double tol) {
+bool InsideImage(const Vector2d& uv, const sensor::CameraRig& rig, double tol) {
   return uv.x() >= -tol && uv.x() <= rig.width - 1 + tol && uv.y() >= -tol &&
          uv.y() <= rig.height - 1 + tol;
 }
@@ -56,7 +56,7 @@ TEST_P(CameraKindTest, NoiseFreeObservationsReprojectExactly) {
     const SE3d expected = sim.T_w_b_gt[i] * sim.rig.T_b_c;
     EXPECT_LT((sim.T_w_c_gt[i].Matrix() - expected.Matrix()).norm(), 1e-12);
   }
-  for (const PointObservation& obs : sim.points) {
+  for (const sensor::PointObservation& obs : sim.points) {
     ASSERT_GE(obs.point_id, 0);
     const SE3d& T_w_c = sim.T_w_c_gt[obs.frame];
     const Vector3d p_c = T_w_c.Inverse() * sim.scene.points_w[obs.point_id];
@@ -66,7 +66,7 @@ TEST_P(CameraKindTest, NoiseFreeObservationsReprojectExactly) {
     EXPECT_TRUE(InsideImage(obs.uv, sim.rig, 0.0));
     ++points_per_frame[obs.frame];
   }
-  for (const SegmentObservation& obs : sim.segments) {
+  for (const sensor::SegmentObservation& obs : sim.segments) {
     ASSERT_GE(obs.line_id, 0);
     const LineSegment3& seg = sim.scene.segments_w[obs.line_id];
     const Eigen::Vector3d l = ImageLine(seg.a_w, seg.b_w, sim.T_w_c_gt[obs.frame], sim.rig.K);
@@ -115,10 +115,10 @@ INSTANTIATE_TEST_SUITE_P(AllKinds, CameraKindTest,
                            return SceneKindName(info.param);
                          });
 
-CameraRig TestRig() { return CameraRig(); }
+sensor::CameraRig TestRig() { return DefaultRig(); }
 
 TEST(ClipSegmentTest, FullyVisibleSegmentIsUnchanged) {
-  const CameraRig rig = TestRig();
+  const sensor::CameraRig rig = TestRig();
   const SE3d T_w_c;  // camera at the origin looking along +z
   const LineSegment3 seg{Vector3d(-0.5, 0.2, 4.0), Vector3d(0.3, -0.1, 5.0)};
   const auto c = ClipSegmentToImage(seg, T_w_c, rig, 0.1, 40.0);
@@ -130,7 +130,7 @@ TEST(ClipSegmentTest, FullyVisibleSegmentIsUnchanged) {
 }
 
 TEST(ClipSegmentTest, SegmentBehindOrBesideCameraIsRejected) {
-  const CameraRig rig = TestRig();
+  const sensor::CameraRig rig = TestRig();
   const SE3d T_w_c;
   EXPECT_FALSE(ClipSegmentToImage({Vector3d(0, 0, -1), Vector3d(1, 0, -3)}, T_w_c, rig, 0.1, 40));
   EXPECT_FALSE(ClipSegmentToImage({Vector3d(50, 0, 1), Vector3d(60, 1, 2)}, T_w_c, rig, 0.1, 40));
@@ -140,7 +140,7 @@ TEST(ClipSegmentTest, SegmentBehindOrBesideCameraIsRejected) {
 }
 
 TEST(ClipSegmentTest, SegmentThroughNearPlaneIsClippedIn3D) {
-  const CameraRig rig = TestRig();
+  const sensor::CameraRig rig = TestRig();
   const SE3d T_w_c;
   // From behind the camera to far in front, off-axis: the 2D projection of the behind point
   // would land on the wrong side; clipping in 3D keeps the visible part only.
@@ -160,7 +160,7 @@ TEST(ClipSegmentTest, SegmentThroughNearPlaneIsClippedIn3D) {
 // Random segments around a random camera: the clipped endpoints are inside the image, on the
 // projected line, and the clip is tight (just outside [s0, s1] is invisible).
 TEST(ClipSegmentTest, RandomSegmentsClipTightlyOntoTheProjectedLine) {
-  const CameraRig rig = TestRig();
+  const sensor::CameraRig rig = TestRig();
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int clipped_count = 0, partial = 0;
@@ -201,11 +201,11 @@ TEST(CameraObservationTest, OutlierRatioHonoured) {
     o.obs.outlier_ratio = ratio;
     const CameraSimulation sim = SimulateCamera(o);
     int point_out = 0, seg_out = 0;
-    for (const PointObservation& p : sim.points) {
+    for (const sensor::PointObservation& p : sim.points) {
       point_out += p.point_id == -1;
       EXPECT_TRUE(InsideImage(p.uv, sim.rig, 0.0) || p.point_id >= 0);
     }
-    for (const SegmentObservation& s : sim.segments) {
+    for (const sensor::SegmentObservation& s : sim.segments) {
       if (s.line_id != -1) continue;
       ++seg_out;
       EXPECT_TRUE(InsideImage(s.s_px, sim.rig, 0.0) && InsideImage(s.e_px, sim.rig, 0.0));
@@ -224,7 +224,7 @@ TEST(CameraObservationTest, PixelNoiseHasConfiguredSigma) {
   const CameraSimulation noisy = SimulateCamera(o);
   double sq = 0;
   long n = 0;
-  for (const PointObservation& obs : noisy.points) {
+  for (const sensor::PointObservation& obs : noisy.points) {
     const Vector3d p_c = noisy.T_w_c_gt[obs.frame].Inverse() * noisy.scene.points_w[obs.point_id];
     sq += (noisy.rig.K.ToPixel<double>(p_c.hnormalized()) - obs.uv).squaredNorm();
     n += 2;

@@ -17,8 +17,8 @@ void CheckDensity(double v, const char* name) {
 
 }  // namespace
 
-std::vector<ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
-                                   std::uint64_t seed) {
+std::vector<sensor::ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
+                                           std::uint64_t seed) {
   if (!std::isfinite(options.rate_hz) || options.rate_hz <= 0.0) {
     throw std::invalid_argument("SimulateImu: rate_hz must be finite and positive");
   }
@@ -52,11 +52,11 @@ std::vector<ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOption
     return Eigen::Vector3d(x, y, z);
   };
 
-  std::vector<ImuSample> samples;
+  std::vector<sensor::ImuSample> samples;
   samples.reserve(static_cast<std::size_t>(n));
   Eigen::Vector3d b_g = options.initial_gyro_bias, b_a = options.initial_accel_bias;
   for (int k = 0; k < n; ++k) {
-    ImuSample s;
+    sensor::ImuSample s;
     s.t = k * dt;
     const Eigen::Matrix3d R_w_b = trajectory.R_w_b(s.t);
     s.gyro = trajectory.angular_velocity_b(s.t) + b_g + sigma_g * gaussian3();

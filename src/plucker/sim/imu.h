@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "plucker/sensor/imu.h"
 #include "plucker/sim/trajectory.h"
 
 namespace plucker {
@@ -26,19 +27,11 @@ struct ImuOptions {
   Eigen::Vector3d gravity_w{0.0, 0.0, -9.81};
 };
 
-struct ImuSample {
-  double t = 0.0;
-  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();        // rad/s, body frame
-  Eigen::Vector3d accel = Eigen::Vector3d::Zero();       // m/s^2, specific force, body frame
-  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   // ground truth at t
-  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  // ground truth at t
-};
-
 // Samples at t_k = k / rate_hz for k = 0 .. ceil(duration * rate_hz) (the last sample is at or
 // after the trajectory's end). Throws std::invalid_argument for a non-positive rate or negative
 // / non-finite densities.
-std::vector<ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
-                                   std::uint64_t seed);
+std::vector<sensor::ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
+                                           std::uint64_t seed);
 
 }  // namespace sim
 }  // namespace plucker

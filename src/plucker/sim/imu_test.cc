@@ -30,7 +30,7 @@ TEST(ImuTest, SampleTimesCoverTheTrajectory) {
   const Trajectory tr = TestTrajectory(SceneKind::kRoom, 2.0);
   ImuOptions o;
   o.rate_hz = 100.0;
-  const std::vector<ImuSample> s = SimulateImu(tr, o, 1);
+  const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 1);
   ASSERT_EQ(s.size(), 201u);
   EXPECT_EQ(s.front().t, 0.0);
   EXPECT_NEAR(s.back().t, 2.0, 1e-12);
@@ -43,11 +43,11 @@ TEST(ImuTest, NoiseFreeIntegrationReproducesTrajectory) {
     ImuOptions o = NoiseFree();
     o.initial_gyro_bias = Eigen::Vector3d(0.01, -0.02, 0.005);
     o.initial_accel_bias = Eigen::Vector3d(0.1, 0.05, -0.2);
-    const std::vector<ImuSample> s = SimulateImu(tr, o, 1);
+    const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 1);
     const double dt = 1.0 / o.rate_hz;
     Eigen::Matrix3d R = tr.R_w_b(0.0);
     Eigen::Vector3d v = tr.velocity_w(0.0), p = tr.position_w(0.0);
-    auto a_w = [&](const Eigen::Matrix3d& R_k, const ImuSample& x) {
+    auto a_w = [&](const Eigen::Matrix3d& R_k, const sensor::ImuSample& x) {
       return Eigen::Vector3d(R_k * (x.accel - x.accel_bias) + o.gravity_w);
     };
     double max_rot = 0, max_pos = 0, max_vel = 0;
@@ -80,8 +80,8 @@ TEST(ImuTest, NoiseStatisticsMatchDensities) {
   o.accel_noise_density = 3e-2;
   o.gyro_bias_random_walk = 1e-3;
   o.accel_bias_random_walk = 4e-2;
-  const std::vector<ImuSample> s = SimulateImu(tr, o, 17);
-  const std::vector<ImuSample> clean = SimulateImu(tr, NoiseFree(), 17);
+  const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 17);
+  const std::vector<sensor::ImuSample> clean = SimulateImu(tr, NoiseFree(), 17);
   ASSERT_EQ(s.size(), clean.size());
   const double dt = 1.0 / o.rate_hz;
   double sum_g = 0, sum_a = 0, sq_g = 0, sq_a = 0, sq_bg = 0, sq_ba = 0;
@@ -127,7 +127,7 @@ TEST(ImuTest, StaticBodyMeasuresGravity) {
   SmoothSignal zero;
   const Trajectory still({zero, zero, zero}, zero, zero, zero, 1.0);
   const auto s = SimulateImu(still, NoiseFree(), 1);
-  for (const ImuSample& x : s) {
+  for (const sensor::ImuSample& x : s) {
     EXPECT_EQ(x.gyro, Eigen::Vector3d::Zero());
     EXPECT_NEAR((x.accel - Eigen::Vector3d(0, 0, 9.81)).norm(), 0.0, 1e-12);
   }

@@ -1,16 +1,16 @@
 // Simulation of a spinning multi-beam LiDAR on a vehicle driving through a LidarScene. No I/O.
 //
 // The sensor frame s: x forward, y left, z up, mounted `mount_height` above the ground on the
-// vehicle. The beam pattern is given as plain numbers (the app converts lidar::SensorModel) so
-// that the sim layer does not depend on the lidar layer.
+// vehicle. The beam pattern is given as plain numbers (apps/plucker/lidar_sim_options.h copies
+// them from a sensor::LidarModel).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/lidar_scan.h"
 #include "plucker/sim/lidar_scene.h"
 
 namespace plucker {

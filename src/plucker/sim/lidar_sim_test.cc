@@ -8,20 +8,22 @@
 #include <ctime>
 #include <set>
 
+#include "plucker/sensor/lidar_model.h"
+
 namespace plucker {
 namespace sim {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// HDL-64E-like pattern (the table of lidar::HDL64, repeated here: sim does not depend on lidar).
+// The HDL-64E pattern of sensor/lidar_model.h.
 LidarSimOptions Hdl64Options(int azimuth_steps = 2083) {
+  const sensor::LidarModel hdl64 = sensor::HDL64();
   LidarSimOptions o;
-  for (int i = 0; i < 32; ++i) o.elevation_rad.push_back((-24.33 + i * 0.5) * kDeg);
-  for (int i = 0; i < 32; ++i) o.elevation_rad.push_back((-8.33 + i * 10.33 / 31.0) * kDeg);
+  o.elevation_rad = hdl64.elevation_rad;
   o.azimuth_steps = azimuth_steps;
-  o.min_range = 0.9;
-  o.max_range = 120;
+  o.min_range = hdl64.min_range;
+  o.max_range = hdl64.max_range;
   return o;
 }
 

@@ -1,4 +1,4 @@
-#include "plucker/ba/synthetic_problem.h"
+#include "plucker/testing/synthetic_problem.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "plucker/lidar/fast_atan2.h"
+#include "plucker/geometry/fast_atan2.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,6 @@
 #include <limits>
 
 namespace plucker {
-namespace lidar {
 namespace {
 
 TEST(FastAtan2Test, MaxErrorOverTheCircle) {
@@ -36,5 +35,5 @@ TEST(FastAtan2Test, AxesAndSpecialValues) {
 }
 
 }  // namespace
-}  // namespace lidar
+
 }  // namespace plucker

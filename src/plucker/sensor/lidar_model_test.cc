@@ -1,4 +1,4 @@
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 
 #include <gtest/gtest.h>
 
@@ -12,13 +12,13 @@
 #include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
-namespace lidar {
+namespace sensor {
 namespace {
 
 namespace fs = std::filesystem;
 constexpr double kDeg = M_PI / 180.0;
 
-sim::LidarSimOptions SimOptions(const SensorModel& m) {
+sim::LidarSimOptions SimOptions(const LidarModel& m) {
   sim::LidarSimOptions o;
   o.elevation_rad = m.elevation_rad;
   o.azimuth_steps = m.azimuth_steps / 2;  // half resolution: fast enough for a unit test
@@ -27,19 +27,19 @@ sim::LidarSimOptions SimOptions(const SensorModel& m) {
   return o;
 }
 
-LidarScan Simulate(const SensorModel& m) {
+LidarScan Simulate(const LidarModel& m) {
   const sim::LidarScene scene = sim::MakeUrbanScene();
   const sim::VehicleTrajectory traj(scene.route);
   return sim::LidarSimulator(scene, SimOptions(m)).Scan(traj, 3.0, 0);
 }
 
-TEST(SensorModel, Tables) {
-  for (const SensorModel& m : {HDL64(), VLP32(), VLP16()}) {
+TEST(LidarModel, Tables) {
+  for (const LidarModel& m : {HDL64(), VLP32(), VLP16()}) {
     ASSERT_GT(m.num_rings(), 1) << m.name;
     for (int r = 1; r < m.num_rings(); ++r) {
       EXPECT_GT(m.elevation_rad[r], m.elevation_rad[r - 1]) << m.name << " ring " << r;
     }
-    EXPECT_EQ(FromName(m.name).name, m.name);
+    EXPECT_EQ(LidarModelFromName(m.name).name, m.name);
   }
   EXPECT_EQ(HDL64().num_rings(), 64);
   EXPECT_NEAR(HDL64().elevation_rad.front(), -24.33 * kDeg, 1e-12);
@@ -49,12 +49,12 @@ TEST(SensorModel, Tables) {
   EXPECT_NEAR(VLP32().elevation_rad.back(), 15.0 * kDeg, 1e-12);
   EXPECT_EQ(VLP16().num_rings(), 16);
   EXPECT_NEAR(VLP16().elevation_rad[8], 1.0 * kDeg, 1e-12);
-  EXPECT_EQ(FromName("HDL64").name, "hdl64");
-  EXPECT_THROW(FromName("ouster"), std::invalid_argument);
+  EXPECT_EQ(LidarModelFromName("HDL64").name, "hdl64");
+  EXPECT_THROW(LidarModelFromName("ouster"), std::invalid_argument);
 }
 
-TEST(SensorModel, RingFromElevation) {
-  const SensorModel m = VLP16();
+TEST(LidarModel, RingFromElevation) {
+  const LidarModel m = VLP16();
   for (int r = 0; r < 16; ++r) {
     EXPECT_EQ(m.RingFromElevation(m.elevation_rad[r]), r);
     EXPECT_EQ(m.RingFromElevation(m.elevation_rad[r] + 0.9 * kDeg), r);
@@ -66,8 +66,8 @@ TEST(SensorModel, RingFromElevation) {
   EXPECT_EQ(m.RingFromElevation(std::nan("")), -1);
 }
 
-TEST(SensorModel, AssignRingsOnSimulatedScans) {
-  for (const SensorModel& m : {HDL64(), VLP32(), VLP16()}) {
+TEST(LidarModel, AssignRingsOnSimulatedScans) {
+  for (const LidarModel& m : {HDL64(), VLP32(), VLP16()}) {
     LidarScan scan = Simulate(m);
     const std::vector<int> truth = scan.ring;
     scan.ring.clear();
@@ -81,7 +81,7 @@ TEST(SensorModel, AssignRingsOnSimulatedScans) {
   }
 }
 
-TEST(SensorModel, ScanOrderRingsOnSimulatedScans) {
+TEST(LidarModel, ScanOrderRingsOnSimulatedScans) {
   LidarScan scan = Simulate(HDL64());
   const std::vector<int> truth = scan.ring;
   // Reverse the ring blocks (top beam first, as in KITTI): ring 0 must still be the lowest.
@@ -90,8 +90,8 @@ TEST(SensorModel, ScanOrderRingsOnSimulatedScans) {
   EXPECT_EQ(scan.ring, truth);
 }
 
-TEST(SensorModel, AutoDetectOnSimulatedScans) {
-  for (const SensorModel& m : {HDL64(), VLP32(), VLP16()}) {
+TEST(LidarModel, AutoDetectOnSimulatedScans) {
+  for (const LidarModel& m : {HDL64(), VLP32(), VLP16()}) {
     double confidence = 0;
     EXPECT_EQ(AutoDetectSensor(Simulate(m), &confidence).name, m.name);
     EXPECT_GT(confidence, 0.5) << m.name;
@@ -101,7 +101,7 @@ TEST(SensorModel, AutoDetectOnSimulatedScans) {
   EXPECT_EQ(confidence, 0.0);
 }
 
-TEST(SensorModel, RealKittiScans) {
+TEST(LidarModel, RealKittiScans) {
   const fs::path dir =
       fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-odometry-00/sequences/00/velodyne";
   if (!fs::exists(dir / "000000.bin")) GTEST_SKIP() << "no KITTI extract at " << dir;
@@ -142,5 +142,5 @@ TEST(SensorModel, RealKittiScans) {
 }
 
 }  // namespace
-}  // namespace lidar
+}  // namespace sensor
 }  // namespace plucker

@@ -10,7 +10,6 @@
 #include <cmath>
 
 namespace plucker {
-namespace lidar {
 
 inline double FastAtan2(double y, double x) {
   constexpr double kPi = 3.14159265358979323846;
@@ -28,5 +27,4 @@ inline double FastAtan2(double y, double x) {
   return y < 0.0 ? -a : a;
 }
 
-}  // namespace lidar
 }  // namespace plucker

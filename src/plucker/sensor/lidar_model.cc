@@ -1,4 +1,4 @@
-#include "plucker/lidar/sensor_model.h"
+#include "plucker/sensor/lidar_model.h"
 
 #include <algorithm>
 #include <cctype>
@@ -6,10 +6,10 @@
 #include <set>
 #include <stdexcept>
 
-#include "plucker/lidar/fast_atan2.h"
+#include "plucker/geometry/fast_atan2.h"
 
 namespace plucker {
-namespace lidar {
+namespace sensor {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -40,7 +40,7 @@ int CountRings(const std::vector<int>& ring) {
 
 }  // namespace
 
-int SensorModel::RingFromElevation(double e) const {
+int LidarModel::RingFromElevation(double e) const {
   const std::vector<double>& el = elevation_rad;
   if (el.empty() || !std::isfinite(e)) return -1;
   if (el.size() == 1) return std::abs(e - el[0]) < 1.0 * kDeg ? 0 : -1;
@@ -54,8 +54,8 @@ int SensorModel::RingFromElevation(double e) const {
   return (e - el[hi - 1] <= el[hi] - e) ? hi - 1 : hi;
 }
 
-SensorModel HDL64() {
-  SensorModel m;
+LidarModel HDL64() {
+  LidarModel m;
   m.name = "hdl64";
   std::vector<double> deg;
   for (int i = 0; i < 32; ++i) deg.push_back(2.0 - i * (2.0 + 8.33) / 31.0);      // upper block
@@ -68,8 +68,8 @@ SensorModel HDL64() {
   return m;
 }
 
-SensorModel VLP32() {
-  SensorModel m;
+LidarModel VLP32() {
+  LidarModel m;
   m.name = "vlp32";
   // VLP-32C vertical angles (degrees) from the manufacturer's table, in laser-id order.
   m.elevation_rad = SortedRadians({-25.0,  -1.0,  -1.667, -15.639, -11.31, 0.0,   -0.667, -8.843,
@@ -83,8 +83,8 @@ SensorModel VLP32() {
   return m;
 }
 
-SensorModel VLP16() {
-  SensorModel m;
+LidarModel VLP16() {
+  LidarModel m;
   m.name = "vlp16";
   std::vector<double> deg;
   for (int i = 0; i < 16; ++i) deg.push_back(-15.0 + 2.0 * i);
@@ -96,7 +96,7 @@ SensorModel VLP16() {
   return m;
 }
 
-SensorModel FromName(const std::string& name) {
+LidarModel LidarModelFromName(const std::string& name) {
   std::string n = name;
   for (char& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (n == "hdl64") return HDL64();
@@ -105,7 +105,7 @@ SensorModel FromName(const std::string& name) {
   throw std::invalid_argument("unknown sensor '" + name + "' (expected hdl64, vlp32 or vlp16)");
 }
 
-RingAssignmentStats AssignRings(LidarScan* scan, const SensorModel& model) {
+RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model) {
   RingAssignmentStats stats;
   if (scan->ring.size() == scan->size() && !scan->empty()) {
     stats.rings_found = CountRings(scan->ring);
@@ -185,7 +185,7 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   return stats;
 }
 
-SensorModel AutoDetectSensor(const LidarScan& scan, double* confidence) {
+LidarModel AutoDetectSensor(const LidarScan& scan, double* confidence) {
   std::vector<double> el;
   el.reserve(scan.size());
   for (const Eigen::Vector3d& p : scan.points) {
@@ -222,5 +222,5 @@ SensorModel AutoDetectSensor(const LidarScan& scan, double* confidence) {
   return fill > 0.5 ? HDL64() : VLP32();
 }
 
-}  // namespace lidar
+}  // namespace sensor
 }  // namespace plucker

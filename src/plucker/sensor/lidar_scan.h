@@ -6,6 +6,7 @@
 #include <vector>
 
 namespace plucker {
+namespace sensor {
 
 struct LidarScan {
   std::vector<Eigen::Vector3d> points;  // metres, sensor frame (x forward, y left, z up)
@@ -17,5 +18,10 @@ struct LidarScan {
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }
 };
+
+}  // namespace sensor
+
+// The layers written before sensor/ existed name it plucker::LidarScan.
+using sensor::LidarScan;
 
 }  // namespace plucker

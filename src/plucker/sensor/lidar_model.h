@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/point_cloud.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
-namespace lidar {
+namespace sensor {
 
-struct SensorModel {
+struct LidarModel {
   std::string name;
   std::vector<double> elevation_rad;  // ring 0 = lowest, increasing
   double min_range = 0.5;             // metres
@@ -39,14 +39,14 @@ struct SensorModel {
 // Velodyne HDL-64E as in KITTI: 64 beams, +2.0 deg .. -24.33 deg. Documented approximation of
 // the non-uniform factory table: upper block 32 beams uniformly +2.0 .. -8.33 deg, lower block 32
 // beams uniformly -8.83 .. -24.33 deg. 0.9 .. 120 m, 2083 azimuth steps (0.1728 deg at 10 Hz).
-SensorModel HDL64();
+LidarModel HDL64();
 // Velodyne VLP-32C (Ultra Puck): the 32 non-uniform factory elevations, +15 .. -25 deg, dense
 // around -1 deg. 0.5 .. 200 m, 1800 azimuth steps (0.2 deg at 10 Hz).
-SensorModel VLP32();
+LidarModel VLP32();
 // Velodyne VLP-16 (Puck): -15 .. +15 deg every 2 deg. 0.5 .. 100 m, 1800 azimuth steps.
-SensorModel VLP16();
+LidarModel VLP16();
 // "hdl64" | "vlp32" | "vlp16" (case-insensitive); throws std::invalid_argument otherwise.
-SensorModel FromName(const std::string& name);
+LidarModel LidarModelFromName(const std::string& name);
 
 struct RingAssignmentStats {
   int rings_found = 0;         // distinct rings that received points
@@ -55,7 +55,7 @@ struct RingAssignmentStats {
 
 // Fills scan->ring from each point's elevation (nearest beam, -1 outside the table). Does nothing
 // (returns rings_found from the existing field) when the scan already has a ring field.
-RingAssignmentStats AssignRings(LidarScan* scan, const SensorModel& model);
+RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model);
 
 // Fills scan->ring from the firing order: a new ring starts where the azimuth wraps from the
 // end of a revolution back to its start. The azimuth is measured in the sweep direction (found
@@ -74,7 +74,7 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan,
 // Guesses the sensor from the elevation histogram (vertical field of view and number of
 // distinct elevation peaks): returns HDL64, VLP32 or VLP16. `confidence` (optional, 0..1) says
 // how well the histogram matched. Scans with < 100 points return VLP16 with confidence 0.
-SensorModel AutoDetectSensor(const LidarScan& scan, double* confidence = nullptr);
+LidarModel AutoDetectSensor(const LidarScan& scan, double* confidence = nullptr);
 
-}  // namespace lidar
+}  // namespace sensor
 }  // namespace plucker
