@@ -13,41 +13,34 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-// Residual blocks (the odometry's factors) and their normal equations at one pose, as SolvePose
-// returns them (no robust loss here: every weight is 1).
-class Rows {
- public:
-  explicit Rows(const SE3d& T_w_s = SE3d()) : T_w_s_(T_w_s) {}
+// Residual blocks (the odometry's factors) at T_w_s, their independent rows, and the analysis of
+// their normal equations as SolvePose returns them (no robust loss here: every weight is 1).
+struct Rows {
+  SE3d T_w_s;
+  std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  int rows = 0;
   // A point-to-plane row at p_s with the world normal m_w (the plane passes through T_w_s p_s).
   void AddPlane(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w, double sigma) {
-    residuals_.emplace_back(PointToPlaneFactor::Create(p_s, m_w, T_w_s_ * p_s, sigma));
-    rows_ += 1;
+    residuals.emplace_back(PointToPlaneFactor::Create(p_s, m_w, T_w_s * p_s, sigma));
+    rows += 1;
   }
   // A point-to-edge block for the world line through T_w_s p_s with direction u_w (rank 2).
   void AddEdge(const Eigen::Vector3d& p_s, const Eigen::Vector3d& u_w, double sigma) {
-    residuals_.emplace_back(PointToEdgeFactor::CreateFromDirection(p_s, T_w_s_ * p_s, u_w, sigma));
-    rows_ += 2;
+    residuals.emplace_back(PointToEdgeFactor::CreateFromDirection(p_s, T_w_s * p_s, u_w, sigma));
+    rows += 2;
   }
-  Matrix6d H() const {
-    NormalEquations eq;
-    EXPECT_TRUE(EvaluateNormalEquations(residuals_, nullptr, T_w_s_, &eq));
-    return eq.H;
-  }
-  int rows() const { return rows_; }
   template <typename Criterion>
   DegeneracyInfo Analyse(const Criterion& criterion) const {
-    return AnalyseDegeneracy(H(), rows_, criterion);
+    NormalEquations eq;
+    EXPECT_TRUE(EvaluateNormalEquations(residuals, nullptr, T_w_s, &eq));
+    return AnalyseDegeneracy(eq.H, rows, criterion);
   }
-
- private:
-  SE3d T_w_s_;
-  std::vector<std::unique_ptr<ceres::CostFunction>> residuals_;
-  int rows_ = 0;
 };
 
 // Plane points on the floor and two walls of a corridor along x: nothing constrains x.
 Rows Corridor(const SE3d& T_w_s) {
-  Rows eq(T_w_s);
+  Rows eq;
+  eq.T_w_s = T_w_s;
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-20, 20);
   for (int i = 0; i < 300; ++i) {
@@ -96,7 +89,7 @@ TEST(DegeneracyTest, EdgesAndEmptyProblem) {
   const DegeneracyInfo info = eq.Analyse(1e-6);
   EXPECT_EQ(info.num_degenerate_directions, 1);
   EXPECT_NEAR(std::abs(info.eigenvectors(5, 0)), 1.0, 1e-9);  // dt_z
-  EXPECT_EQ(eq.rows(), 40);
+  EXPECT_EQ(eq.rows, 40);
 }
 
 // A plane row whose normal is the true one tilted by Gaussian noise of `tilt` radians (what a

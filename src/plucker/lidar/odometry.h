@@ -2,28 +2,25 @@
 // registration against a bounded local voxel map with the analytic point-to-edge and
 // point-to-plane factors (factors/lidar_factors.h) on the pose manifold, a robust loss, a
 // constant-velocity initial guess, a few re-association rounds, and degeneracy handling
-// (lidar/degeneracy.h). No file I/O, no clocks: scans in, poses and statistics out.
+// (lidar/degeneracy.h). No file I/O, no clocks: scans in, poses and statistics out; the caller
+// times the stages through an optional StageObserver.
 //
-// Per scan (LidarOdometry::ProcessScan reads as these steps):
-//   0. rings (kept from the scan, else from the firing order or the sensor's elevation table),
-//      then features;
+// ProcessScan, per scan: rings (kept from the scan, else from the firing order or the sensor's
+// elevation table) and features, then
 //   1. predict: T_w_s_pred = T_w_s_prev T_s_prev2_s_prev (constant velocity, PredictPose);
-//   2. deskew (when the scan has per-point time): the feature points are moved to the scan-start
-//      frame with the motion over the sweep T_s_prev_s = T_w_s_prev^-1 T_w_s, T_w_s being the
-//      current estimate (the prediction first, then re-done at every association round);
+//   2. deskew (scans with per-point time): the feature points are moved to the scan-start frame
+//      with the sweep motion T_s_prev_s = T_w_s_prev^-1 T_w_s of the current estimate T_w_s;
 //   3. register against the map, `association_rounds` times (up to max_association_rounds while
-//      the pose still moves by more than the convergence thresholds in a round): find
-//      correspondences in the local maps at the current estimate (5 nearest neighbours; edge if
-//      the largest eigenvalue of their covariance exceeds edge_eigen_ratio times the middle one,
-//      plane if every neighbour lies within plane_max_residual of the fitted plane), solve (a few
-//      robust Levenberg-Marquardt iterations on the pose, lidar/pose_solver.h), then remap the
-//      solution along degenerate directions (from the solver's normal equations);
-//   4. update the map: the downsampled features, in the world frame, enter the maps
-//      (UpdateLocalMap); every map_cleanup_every frames voxels farther than max_distance from
-//      the sensor are dropped. When deskewing, the first scan cannot be deskewed (no motion
-//      yet): it seeds the map raw and, once the second scan is registered, is deskewed with
-//      that motion and the map is rebuilt from it and the second scan (odometry.cc says why).
-// The caller times the steps through an optional StageObserver.
+//      the pose still moves by more than the convergence thresholds): re-deskew, find
+//      correspondences in the local maps (5 nearest neighbours; edge if the largest eigenvalue
+//      of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
+//      neighbour lies within plane_max_residual of the fitted plane), solve (robust
+//      Levenberg-Marquardt on the pose, lidar/pose_solver.h), remap the solution along the
+//      degenerate directions of the solver's normal equations;
+//   4. update the map (UpdateLocalMap): the features enter the maps in the world frame; every
+//      map_cleanup_every frames voxels farther than max_distance are dropped. When deskewing,
+//      the first scan (no motion known yet) seeds the map raw and, once the second scan is
+//      registered, both are deskewed and the map rebuilt (odometry.cc: RebuildMapFromSeed).
 #pragma once
 
 #include <functional>
@@ -90,7 +87,7 @@ struct LidarOdometryOptions {
   bool handle_degeneracy = true;  // remap the solution along degenerate directions
   bool constant_velocity = true;  // else the prediction is the previous pose
   int map_cleanup_every = 10;     // frames between RemoveFar calls
-  int num_threads = 1;  // threads (TBB) for features and correspondences; > 1: wall-clock timings
+  int num_threads = 1;            // threads (TBB) for features and correspondences
 };
 
 struct FrameResult {

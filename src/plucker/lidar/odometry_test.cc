@@ -11,6 +11,7 @@
 
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/trajectory_io.h"
+#include "plucker/lidar/sensor_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
 
@@ -108,22 +109,26 @@ TEST(LidarOdometryTest, StageObserverSeesEveryStageOfAFrame) {
   EXPECT_EQ(stages.back(), Stage::kDone);
 }
 
-// A corridor 4 m wide and high, the sensor driving its axis at 5 m/s more than 200 m from either
-// end wall (beyond the 120 m range): nothing in the scans shows the motion along the axis.
+// The simulated corridor (6 m wide, 4 m high) seen by the HDL-64E model with 5 mm range noise,
+// the sensor driving its axis 200 m from either end wall (beyond its range): nothing in the
+// scans shows the motion along the axis. (With the 16-beam model and a map of a few scans the
+// one-ring plane fits leave 2-3 (1/sigma^2) per row along the axis, above the 1.3 ceiling, even
+// without noise: those frames are not flagged; docs/math/lidar-odometry.md, "Limitation".)
 TEST(LidarOdometryTest, CorridorIsDetectedDegenerateAndStableAlongItsAxis) {
-  sim::CorridorSceneOptions corridor;
-  corridor.width = 4.0;
-  const sim::LidarScene scene = sim::MakeCorridorScene(corridor);
-  sim::VehicleTrajectoryOptions drive;
-  drive.speed = 5.0;
-  const sim::VehicleTrajectory trajectory(scene.route, drive);
-  const sim::LidarSimulator simulator(scene, Beams(16, -15, 15, 0.005));
+  const sim::LidarScene scene = sim::MakeCorridorScene();
+  const sim::VehicleTrajectory trajectory(scene.route);  // 10 m/s
+  const SensorModel hdl64 = HDL64();
+  sim::LidarSimOptions beams;
+  beams.elevation_rad = hdl64.elevation_rad;
+  beams.azimuth_steps = hdl64.azimuth_steps;
+  beams.range_noise_sigma = 0.005;
+  const sim::LidarSimulator simulator(scene, beams);
   LidarOdometry odometry;
-  const double t0 = 40.0;  // 200 m along the first leg
+  const double t0 = 20.0;  // 200 m along the first leg
   const SE3d T_s0_w = trajectory.T_w_s(t0).Inverse();
   for (int i = 0; i < 6; ++i) {
     const SE3d T_s0_s = T_s0_w * trajectory.T_w_s(t0 + 0.1 * i);
-    ASSERT_NEAR(T_s0_s.translation().x(), 0.5 * i, 1e-6);  // the true motion, along x
+    ASSERT_NEAR(T_s0_s.translation().x(), 1.0 * i, 1e-6);  // the true motion, along x
     const std::vector<SE3d> before = odometry.poses();
     const FrameResult r = odometry.ProcessScan(simulator.Scan(trajectory, t0 + 0.1 * i, i));
     ASSERT_TRUE(r.ok) << r.error;
@@ -149,22 +154,18 @@ TEST(LidarOdometryTest, CorridorIsDetectedDegenerateAndStableAlongItsAxis) {
 // Step 1 alone: the prediction, against poses composed by hand.
 TEST(LidarOdometryStepsTest, PredictionIsConstantVelocity) {
   EXPECT_LT(PredictPose({}, true).Minus(SE3d()).norm(), 1e-15);
-  const SE3d T_w_s0;  // identity
-  // Scan 1: 1 m forward and 10 deg of yaw.
-  const double c = std::cos(10 * M_PI / 180), s = std::sin(10 * M_PI / 180);
-  const SE3d T_w_s1(
-      Eigen::Quaterniond(Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitZ())),
-      Eigen::Vector3d(1, 0, 0));
+  // Scan 0 at the origin, scan 1 after 1 m forward and 10 deg of yaw.
+  const SE3d T_w_s0,
+      T_w_s1(ExpSO3<double>(Eigen::Vector3d(0, 0, 10 * M_PI / 180)), Eigen::Vector3d(1, 0, 0));
   EXPECT_LT(PredictPose({T_w_s1}, true).Minus(T_w_s1).norm(), 1e-15);
   EXPECT_LT(PredictPose({T_w_s0, T_w_s1}, false).Minus(T_w_s1).norm(), 1e-15);
-  // The same motion again: 20 deg of yaw, at (1 + cos 10 deg, sin 10 deg, 0).
+  // The same motion again: 20 deg of yaw at (1 + cos 10 deg, sin 10 deg, 0).
   const SE3d T_w_s2_pred = PredictPose({T_w_s0, T_w_s1}, true);
-  EXPECT_LT((T_w_s2_pred.translation() - Eigen::Vector3d(1.0 + c, s, 0.0)).norm(), 1e-12);
-  EXPECT_NEAR(T_w_s2_pred.translation().x(), 1.984807753012208, 1e-12);
-  EXPECT_NEAR(T_w_s2_pred.translation().y(), 0.17364817766693033, 1e-12);
-  const Eigen::Vector3d w = LogSO3(T_w_s2_pred.rotation());
-  EXPECT_NEAR(w.z(), 20 * M_PI / 180, 1e-12);
-  EXPECT_LT(w.head<2>().norm(), 1e-12);
+  EXPECT_LT((T_w_s2_pred.translation() - Eigen::Vector3d(1.984807753012208, 0.17364817766693033, 0))
+                .norm(),
+            1e-12);
+  EXPECT_LT((LogSO3(T_w_s2_pred.rotation()) - Eigen::Vector3d(0, 0, 20 * M_PI / 180)).norm(),
+            1e-12);
 }
 
 // Step 4 alone: the points enter the maps at T_w_s, and far voxels go when asked.
