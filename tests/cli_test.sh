@@ -64,6 +64,9 @@ expect lidar-bad-frames 0 "000005.bin" -- "$PLUCKER" lidar --data "$T/bad" --out
 expect lidar-bad-frames-rows 0 "^12$" -- bash -c "wc -l < '$T/bad_est.txt'"
 expect lidar-bad-frames-json-missing 0 "000008" -- cat "$T/bad_stats.json"
 expect lidar-bad-frames-json-truncated 0 "000005.bin" -- cat "$T/bad_stats.json"
+# --quiet silences progress, not warnings: the truncated frame is still reported.
+expect lidar-quiet-still-reports-skipped 0 "skipped frame 5: .*000005\.bin" -- \
+  "$PLUCKER" lidar --data "$T/bad" --out "$T/bad_quiet.txt" --quiet
 expect lidar-missing-folder nonzero "$T/nothing" -- \
   "$PLUCKER" lidar --data "$T/nothing" --out "$T/x.txt"
 expect lidar-refuses-to-overwrite-input nonzero "" -- \

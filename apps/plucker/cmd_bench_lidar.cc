@@ -3,7 +3,6 @@
 // load. Each frame keeps its fastest repeat; the table gives the median over frames, per stage.
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -15,12 +14,11 @@
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/lidar/odometry.h"
+#include "stage_clock.h"
 
 namespace plucker {
 namespace app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 struct BenchLidarArgs {
   std::string data, sequence;
@@ -35,30 +33,30 @@ const char* const kStageNames[kStages] = {"read",  "rings",      "features", "co
                                           "solve", "map_update", "total"};
 
 // Per frame: the stage times of one pass over the sequence (CPU time of the thread with one
-// thread, wall-clock with several: see lidar::FrameTimings).
+// thread, wall-clock with several: see StageClock).
 std::vector<std::array<double, kStages>> RunOnce(const io::LidarSequence& seq, int frames,
                                                  int threads) {
   lidar::LidarOdometryOptions options;
   options.num_threads = threads;
   AdaptToSequence(seq, &options);
   lidar::LidarOdometry odometry(options);
+  const bool wall = threads > 1;
+  StageClock stages(wall);
+  auto now = [wall] { return wall ? WallMs() : ThreadCpuMs(); };
   std::vector<std::array<double, kStages>> out;
   for (int i = 0; i < frames; ++i) {
-    const double cpu0 = lidar::ThreadCpuMs();
-    const auto t0 = Clock::now();
+    const double t0 = now();
     LidarScan scan;
     std::string error;
     if (!seq.Read(i, &scan, &error)) {
       odometry.SkipFrame(error);
       continue;
     }
-    const double read = threads == 1
-                            ? lidar::ThreadCpuMs() - cpu0
-                            : std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    const lidar::FrameResult r = odometry.ProcessScan(std::move(scan));
-    const double odometry_ms = threads == 1 ? r.timing.cpu : r.timing.total;
-    out.push_back({read, r.timing.rings, r.timing.features, r.timing.correspondences,
-                   r.timing.solve, r.timing.map_update, read + odometry_ms});
+    const double read = now() - t0;
+    odometry.ProcessScan(std::move(scan), stages.Observer());
+    out.push_back({read, stages.ms(lidar::Stage::kRings), stages.ms(lidar::Stage::kFeatures),
+                   stages.ms(lidar::Stage::kCorrespondences), stages.ms(lidar::Stage::kSolve),
+                   stages.ms(lidar::Stage::kMapUpdate), now() - t0});
   }
   return out;
 }

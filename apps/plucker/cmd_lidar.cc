@@ -25,6 +25,7 @@
 #include "plucker/lidar/odometry.h"
 #include "plucker/lidar/voxel_map.h"
 #include "plucker/sensor/lidar_model.h"
+#include "stage_clock.h"
 
 namespace plucker {
 namespace app {
@@ -119,28 +120,34 @@ int RunLidar(const LidarArgs& a) {
   nlohmann::json skipped = nlohmann::json::array();
   std::vector<double> total_ms, cpu_ms, times;
   std::size_t degenerate_frames = 0;
+  StageClock stages(options.num_threads > 1);
   const auto run_start = Clock::now();
   auto last_progress = run_start;
   const std::size_t n = seq.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto t0 = Clock::now();
-    const double cpu0 = lidar::ThreadCpuMs();
+    const double cpu0 = ThreadCpuMs();
     LidarScan scan;
     std::string error;
     const bool read_ok = seq.Read(i, &scan, &error);
     const double read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    const double read_cpu_ms = lidar::ThreadCpuMs() - cpu0;
+    const double read_cpu_ms = ThreadCpuMs() - cpu0;
     double stamp = i < seq.times().size() ? seq.times()[i] : 0.1 * static_cast<double>(i);
     if (read_ok && i >= seq.times().size() && scan.timestamp != 0.0) stamp = scan.timestamp;
     times.push_back(stamp);
 
     lidar::FrameResult r;
     std::vector<Eigen::Vector3d> scan_points;
+    double odometry_ms = 0.0, odometry_cpu_ms = 0.0;
     if (!read_ok) {
       r = odometry.SkipFrame(error);
     } else {
       if (!a.map.empty()) scan_points = scan.points;
-      r = odometry.ProcessScan(std::move(scan));
+      const auto t1 = Clock::now();
+      const double cpu1 = ThreadCpuMs();
+      r = odometry.ProcessScan(std::move(scan), stages.Observer());
+      odometry_cpu_ms = ThreadCpuMs() - cpu1;
+      odometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
     }
     if (!r.ok) skipped.push_back({{"frame", i}, {"reason", r.error}});
     if (r.ok && !a.map.empty()) {
@@ -156,40 +163,41 @@ int RunLidar(const LidarArgs& a) {
       }
       map.AddPoints(world);
     }
-    const double frame_ms = read_ms + (read_ok ? r.timing.total : 0.0);
-    const double frame_cpu_ms = read_cpu_ms + (read_ok ? r.timing.cpu : 0.0);
+    const double frame_ms = read_ms + odometry_ms;
+    const double frame_cpu_ms = read_cpu_ms + odometry_cpu_ms;
     if (read_ok) {
       total_ms.push_back(frame_ms);
       cpu_ms.push_back(frame_cpu_ms);
     }
     if (r.degeneracy.degenerate && r.ok) ++degenerate_frames;
     if (!a.json.empty()) {
-      nlohmann::json f = {{"frame", i},
-                          {"ok", r.ok},
-                          {"ms",
-                           {{"read", options.num_threads > 1 ? read_ms : read_cpu_ms},
-                            {"rings", r.timing.rings},
-                            {"features", r.timing.features},
-                            {"correspondences", r.timing.correspondences},
-                            {"solve", r.timing.solve},
-                            {"map_update", r.timing.map_update},
-                            {"total_cpu", frame_cpu_ms},
-                            {"total_wall", frame_ms}}},
-                          {"association_rounds", r.association_rounds},
-                          {"edge_points", r.edge_points},
-                          {"plane_points", r.plane_points},
-                          {"edge_correspondences", r.edge_correspondences},
-                          {"plane_correspondences", r.plane_correspondences},
-                          {"iterations", r.solver_iterations},
-                          {"degenerate", r.degeneracy.degenerate},
-                          {"degenerate_directions", r.degeneracy.num_degenerate_directions},
-                          {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
-                          {"translation_ratios", Vec(r.degeneracy.translation_ratios)},
-                          {"rotation_ratios", Vec(r.degeneracy.rotation_ratios)},
-                          {"translation_information", Vec(r.degeneracy.translation_information)},
-                          {"rotation_information", Vec(r.degeneracy.rotation_information)},
-                          {"deskewed", r.deskewed},
-                          {"map_points", r.map_points}};
+      nlohmann::json f = {
+          {"frame", i},
+          {"ok", r.ok},
+          {"ms",
+           {{"read", options.num_threads > 1 ? read_ms : read_cpu_ms},
+            {"rings", read_ok ? stages.ms(lidar::Stage::kRings) : 0.0},
+            {"features", read_ok ? stages.ms(lidar::Stage::kFeatures) : 0.0},
+            {"correspondences", read_ok ? stages.ms(lidar::Stage::kCorrespondences) : 0.0},
+            {"solve", read_ok ? stages.ms(lidar::Stage::kSolve) : 0.0},
+            {"map_update", read_ok ? stages.ms(lidar::Stage::kMapUpdate) : 0.0},
+            {"total_cpu", frame_cpu_ms},
+            {"total_wall", frame_ms}}},
+          {"association_rounds", r.association_rounds},
+          {"edge_points", r.edge_points},
+          {"plane_points", r.plane_points},
+          {"edge_correspondences", r.edge_correspondences},
+          {"plane_correspondences", r.plane_correspondences},
+          {"iterations", r.solver_iterations},
+          {"degenerate", r.degeneracy.degenerate},
+          {"degenerate_directions", r.degeneracy.num_degenerate_directions},
+          {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
+          {"translation_ratios", Vec(r.degeneracy.translation_ratios)},
+          {"rotation_ratios", Vec(r.degeneracy.rotation_ratios)},
+          {"translation_information", Vec(r.degeneracy.translation_information)},
+          {"rotation_information", Vec(r.degeneracy.rotation_information)},
+          {"deskewed", r.deskewed},
+          {"map_points", r.map_points}};
       if (!r.ok) f["error"] = r.error;
       json_out << (i == 0 ? "\n" : ",\n") << f.dump();
     }
@@ -263,10 +271,14 @@ int RunLidar(const LidarArgs& a) {
     else
       std::cerr << " ms CPU per frame (wall " << median_wall << " / " << p95_wall << " ms)";
     std::cerr << "; poses (" << (to_cam0 ? "cam0" : "lidar") << " frame) -> " << a.out << "\n";
-    for (const auto& s : skipped)
-      std::cerr << "  skipped frame " << s["frame"].get<std::size_t>() << ": "
-                << s["reason"].get<std::string>() << "\n";
+  } else if (!skipped.empty()) {
+    std::cerr << "plucker lidar: warning: " << skipped.size() << " of " << n
+              << " frames skipped (poses predicted)\n";
   }
+  // Skipped frames are warnings: reported with --quiet too.
+  for (const auto& s : skipped)
+    std::cerr << "  skipped frame " << s["frame"].get<std::size_t>() << ": "
+              << s["reason"].get<std::string>() << "\n";
   return 0;
 }
 
@@ -292,7 +304,7 @@ void RegisterLidar(CLI::App& app, int* exit_code) {
   cmd->add_option("--json", args->json, "Per-frame statistics and timing summary (JSON)");
   cmd->add_option("--frame", args->frame, "Output frame: cam0 (default, needs calib Tr) | lidar")
       ->check(CLI::IsMember({"cam0", "lidar"}));
-  cmd->add_flag("--quiet", args->quiet, "No progress output");
+  cmd->add_flag("--quiet", args->quiet, "No progress output (skipped frames are still reported)");
   cmd->add_option("--threads", args->threads,
                   "Threads for correspondences and the solver (default 1); with more than one, "
                   "timings are wall-clock");

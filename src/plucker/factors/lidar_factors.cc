@@ -55,6 +55,14 @@ lidar_residuals::PointToEdge MakeEdge(const char* name, const Eigen::Vector3d& p
   return {p_s, a_w, u, CheckSigma(name, sigma)};
 }
 
+lidar_residuals::PointToEdge MakeEdgeFromDirection(const char* name, const Eigen::Vector3d& p_s,
+                                                   const Eigen::Vector3d& a_w,
+                                                   const Eigen::Vector3d& u_w, double sigma) {
+  Require(Finite(p_s) && Finite(a_w) && Finite(u_w), name, "non-finite input");
+  Require(std::abs(u_w.norm() - 1.0) <= 1e-6, name, "the edge direction must be a unit vector");
+  return {p_s, a_w, u_w.normalized(), CheckSigma(name, sigma)};
+}
+
 lidar_residuals::PointToEdge2 MakeEdge2(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                         const Eigen::Vector3d& b_w, double sigma) {
   const Eigen::Vector3d u = EdgeDirection(kEdge2, p_s, a_w, b_w);
@@ -114,6 +122,13 @@ ceres::CostFunction* PointToEdgeFactor::Create(const Eigen::Vector3d& p_s,
                                                const Eigen::Vector3d& a_w,
                                                const Eigen::Vector3d& b_w, double sigma) {
   return new PointToEdgeFactor(MakeEdge(kEdge, p_s, a_w, b_w, sigma));
+}
+
+ceres::CostFunction* PointToEdgeFactor::CreateFromDirection(const Eigen::Vector3d& p_s,
+                                                            const Eigen::Vector3d& a_w,
+                                                            const Eigen::Vector3d& u_w,
+                                                            double sigma) {
+  return new PointToEdgeFactor(MakeEdgeFromDirection(kEdge, p_s, a_w, u_w, sigma));
 }
 
 ceres::CostFunction* PointToEdgeFactor::CreateAutoDiff(const Eigen::Vector3d& p_s,

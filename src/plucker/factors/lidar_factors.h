@@ -126,6 +126,11 @@ class PointToEdgeFactor : public ceres::SizedCostFunction<3, 7> {
                                      const Eigen::Vector3d& b_w, double sigma = 1.0);
   static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
                                              const Eigen::Vector3d& b_w, double sigma = 1.0);
+  // The same residual for the line through a_w with unit direction u_w (|u| within 1e-6 of 1,
+  // re-normalised), as a local line fit gives it.
+  static ceres::CostFunction* CreateFromDirection(const Eigen::Vector3d& p_s,
+                                                  const Eigen::Vector3d& a_w,
+                                                  const Eigen::Vector3d& u_w, double sigma = 1.0);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 

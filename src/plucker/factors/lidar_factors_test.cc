@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "plucker/factors/pose_manifold.h"
+#include "plucker/geometry/se3.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/random_geometry.h"
 
@@ -120,6 +122,37 @@ TEST(LidarFactors, ResidualsAreSignedAndUnsignedDistances) {
     EXPECT_NEAR(Evaluate(*CostPtr(PointToEdgeScalarFactor::Create(p_s, a, b, sigma)), x).r(0),
                 distance / sigma, 1e-10);
   }
+}
+
+// The edge from a point and a unit direction is the two-point edge of the same line: residual
+// and Jacobian agree (a second point b = a - 2.5 u gives the same u up to rounding).
+TEST(LidarFactors, EdgeFromDirectionEqualsTheTwoPointForm) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int compared = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Vector3d p_s(10 * u(rng), 10 * u(rng), 2 * u(rng)), a(u(rng), u(rng), u(rng));
+    const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Quaterniond q(ExpSO3<double>(Vector3d(u(rng), u(rng), u(rng))));
+    const double x[7] = {q.x(), q.y(), q.z(), q.w(), 5 * u(rng), 5 * u(rng), u(rng)};
+    const double sigma = 0.5;
+    const Eval two_point =
+        Evaluate(*CostPtr(PointToEdgeFactor::Create(p_s, a, a - 2.5 * dir, sigma)), x);
+    const Eval from_direction =
+        Evaluate(*CostPtr(PointToEdgeFactor::CreateFromDirection(p_s, a, dir, sigma)), x);
+    ASSERT_TRUE(two_point.ok && from_direction.ok);
+    EXPECT_LT((two_point.r - from_direction.r).norm(), 1e-12 * (1 + two_point.r.norm()));
+    EXPECT_LT((two_point.J - from_direction.J).norm(), 1e-12 * (1 + two_point.J.norm()));
+    ++compared;
+  }
+  EXPECT_EQ(compared, 50);
+  const Vector3d p(1, 2, 3), a(0, 0, 0);
+  EXPECT_THROW(CostPtr(PointToEdgeFactor::CreateFromDirection(p, a, Vector3d(0, 0, 2))),
+               std::invalid_argument);
+  EXPECT_THROW(CostPtr(PointToEdgeFactor::CreateFromDirection(p, a, Vector3d(kNaN, 0, 1))),
+               std::invalid_argument);
+  EXPECT_THROW(CostPtr(PointToEdgeFactor::CreateFromDirection(p, a, Vector3d::UnitZ(), 0.0)),
+               std::invalid_argument);
 }
 
 TEST(LidarFactors, ScalarEdgeAtZeroDistanceReturnsZeroJacobianNotNaN) {

@@ -47,38 +47,17 @@ Eigen::Vector3i Flags(const Eigen::Vector3d& ratios, const Eigen::Vector3d& info
 
 double RotationThreshold(double threshold) { return threshold / 3.0; }
 
-void NormalEquations::AddPlane(const SE3d& T_w_s, const Eigen::Vector3d& p_s,
-                               const Eigen::Vector3d& m_w, double sigma) {
-  // d p_w / d dtheta = -R [p_s]x, d p_w / d dt = I.
-  Eigen::Matrix<double, 1, 6> J;
-  J.head<3>() = -(m_w.transpose() * T_w_s.RotationMatrix() * Hat<double>(p_s));
-  J.tail<3>() = m_w.transpose();
-  J /= sigma;
-  H_.noalias() += J.transpose() * J;
-  rows_ += 1;
-}
-
-void NormalEquations::AddEdge(const SE3d& T_w_s, const Eigen::Vector3d& p_s,
-                              const Eigen::Vector3d& u_w, double sigma) {
-  const Eigen::Matrix3d U = Hat<double>(u_w);
-  Eigen::Matrix<double, 3, 6> J;
-  J.leftCols<3>() = -U * T_w_s.RotationMatrix() * Hat<double>(p_s);
-  J.rightCols<3>() = U;
-  J /= sigma;
-  H_.noalias() += J.transpose() * J;
-  rows_ += 2;  // rank 2: the component along u is identically zero
-}
-
-DegeneracyInfo NormalEquations::Analyse(double threshold) const {
+DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows, double threshold) {
   DegeneracyCriterion criterion;
   criterion.translation_ratio = threshold;
   criterion.rotation_ratio = RotationThreshold(threshold);
-  return Analyse(criterion);
+  return AnalyseDegeneracy(H, rows, criterion);
 }
 
-DegeneracyInfo NormalEquations::Analyse(const DegeneracyCriterion& criterion) const {
+DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows,
+                                 const DegeneracyCriterion& criterion) {
   DegeneracyInfo info;
-  if (rows_ == 0 || !H_.allFinite()) {
+  if (rows <= 0 || !H.allFinite()) {
     info.degenerate = true;
     info.num_degenerate_rotations = info.num_degenerate_translations = 3;
     info.num_degenerate_directions = 6;
@@ -86,7 +65,7 @@ DegeneracyInfo NormalEquations::Analyse(const DegeneracyCriterion& criterion) co
     info.translation_flags.setOnes();
     return info;
   }
-  const Matrix6d Hn = H_ / rows_;
+  const Matrix6d Hn = H / rows;
   info.information = Hn;
   Eigen::SelfAdjointEigenSolver<Matrix6d> solver(Hn);
   info.eigenvalues = solver.eigenvalues();

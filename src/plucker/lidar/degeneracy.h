@@ -3,9 +3,9 @@
 // criterion (docs/math/lidar-odometry.md, "Normal equations and degeneracy", has the
 // measurements behind it).
 //
-// The normal equations of the linearised problem at the solution, H = sum_i J_i^T J_i (6x6,
-// tangent (dtheta, dt) of the pose manifold, residuals in units of their sigma), are normalised by
-// the number of residual rows N: H_n = H / N.
+// The normal equations of the linearised problem at the solution, H = sum_i w_i J_i^T J_i (6x6,
+// tangent (dtheta, dt) of the pose manifold, residuals in units of their sigma, w_i the robust
+// weights; SolvePose returns them), are normalised by the number of residual rows N: H_n = H / N.
 //
 // Criterion. Rotation (m^2) and translation (1) have different units, so each is analysed on its
 // own, after marginalising the other (a translation that a rotation can compensate is not
@@ -15,17 +15,18 @@
 // fraction of the NEXT stronger direction of the same block (an eigen-gap):
 //   ratio(mu1) = mu1 / mu2,   ratio(mu0) = min(mu0 / mu1, mu1 / mu2),   ratio(mu2) = 1,
 // flagged when ratio < threshold for translations and < RotationThreshold(threshold) =
-// threshold / 3 for rotations (Analyse(double)); Analyse(DegeneracyCriterion) sets both ratios
-// and also requires the direction's information to be below a ceiling per block (the odometry
-// uses 1.3 for translations and leaves rotations unflagged: LidarOdometryOptions). The ratios are invariant to a global scaling of H (sigma, N, the
-// number of points). With noisy range the fitted plane normals tilt, which adds about
-// (tilt / sigma)^2 of information per row along a corridor axis: that made the old absolute test
-// (eigenvalue of H_n < 0.3) miss corridors at 2 cm noise, but it stays a small fraction of the
-// next direction (0.2-2% in the simulated corridors at 0.5-3 cm), whereas real along-track
-// constraints are >= 4% in the simulated streets and >= 36% on KITTI even when the ground plane
-// dominates. Rotation information carries the squared lever arm of the points (1-100 m), so
-// well-constrained rotations show smaller gaps (>= 2.4% measured: yaw in a street, roll in a
-// corridor) while a free rotation's noise floor is ~2 tilt^2 (< 0.5%); hence threshold / 3.
+// threshold / 3 for rotations (AnalyseDegeneracy with a threshold); with a DegeneracyCriterion it
+// sets both ratios and also requires the direction's information to be below a ceiling per block
+// (the odometry uses 1.3 for translations and leaves rotations unflagged: LidarOdometryOptions).
+// The ratios are invariant to a global scaling of H (sigma, N, the number of points). With noisy
+// range the fitted plane normals tilt, which adds about (tilt / sigma)^2 of information per row
+// along a corridor axis: that made the old absolute test (eigenvalue of H_n < 0.3) miss corridors
+// at 2 cm noise, but it stays a small fraction of the next direction (0.2-2% in the simulated
+// corridors at 0.5-3 cm), whereas real along-track constraints are >= 4% in the simulated streets
+// and >= 36% on KITTI even when the ground plane dominates. Rotation information carries the
+// squared lever arm of the points (1-100 m), so well-constrained rotations show smaller gaps
+// (>= 2.4% measured: yaw in a street, roll in a corridor) while a free rotation's noise floor is ~2
+// tilt^2 (< 0.5%); hence threshold / 3.
 //
 // Solution remapping: along the flagged directions the prior (the constant-velocity prediction)
 // is kept and the other coordinates take the value that the quadratic model H of the solution
@@ -76,27 +77,14 @@ struct DegeneracyCriterion {
   double max_rotation_information = std::numeric_limits<double>::infinity();     // m^2/sigma^2
 };
 
-// Accumulates J^T J of residual rows (tangent Jacobians) and analyses it.
-class NormalEquations {
- public:
-  // A point-to-plane row: r = m . (R p_s + t - q) / sigma.
-  void AddPlane(const SE3d& T_w_s, const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
-                double sigma);
-  // A point-to-line block: r = u x (R p_s + t - a) / sigma (3 rows, rank 2).
-  void AddEdge(const SE3d& T_w_s, const Eigen::Vector3d& p_s, const Eigen::Vector3d& u_w,
-               double sigma);
-  const Matrix6d& H() const { return H_; }
-  int rows() const { return rows_; }
-  // Flags the directions whose eigen-gap ratio is below `threshold` (translations) or
-  // RotationThreshold(threshold) (rotations); unit-free, default 0.03. No rows, or a non-finite
-  // H: every direction is flagged.
-  DegeneracyInfo Analyse(double threshold) const;
-  DegeneracyInfo Analyse(const DegeneracyCriterion& criterion) const;
-
- private:
-  Matrix6d H_ = Matrix6d::Zero();
-  int rows_ = 0;
-};
+// Analyses the normal equations H = J^T W J of the solution (pose_solver.h: NormalEquations,
+// tangent (dtheta, dt), residuals in units of their sigma) over `rows` independent residual rows
+// (a plane row 1, a point-to-edge block 2: its 3 residuals have rank 2). The threshold form
+// flags the directions whose eigen-gap ratio is below `threshold` (translations) or
+// RotationThreshold(threshold) (rotations); unit-free, default 0.03. No rows, or a non-finite
+// H: every direction is flagged.
+DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows, double threshold);
+DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows, const DegeneracyCriterion& criterion);
 
 // The threshold applied to rotation ratios: threshold / 3 (see above).
 double RotationThreshold(double threshold);

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "plucker/lidar/scan_test_utils.h"
+#include "plucker/sim/lidar_scene.h"
+#include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
 namespace lidar {
@@ -178,12 +179,16 @@ TEST(FeaturesTest, VoxelDownsampleKeepsOnePointPerVoxel) {
 }
 
 TEST(FeaturesTest, SyntheticUrbanScanHasEdgesAndPlanes) {
-  test::ScanPattern pattern;
-  const LidarScan scan = test::MakeScan(test::UrbanScene(), SE3d(), pattern);
+  const sim::LidarScene scene = sim::MakeUrbanScene();
+  const sim::VehicleTrajectory trajectory(scene.route);
+  sim::LidarSimOptions beams;  // 32 beams from -25 to +10 deg, 1000 firings per revolution
+  for (int b = 0; b < 32; ++b) beams.elevation_rad.push_back((-25.0 + 35.0 * b / 31) * M_PI / 180);
+  beams.azimuth_steps = 1000;
+  const LidarScan scan = sim::LidarSimulator(scene, beams).Scan(trajectory, 0.0, 0);
   ScanFeatures f;
   std::string error;
   ASSERT_TRUE(ExtractFeatures(scan, FeatureOptions(), &f, &error)) << error;
-  EXPECT_EQ(f.stats.rings, pattern.rings);
+  EXPECT_EQ(f.stats.rings, 32);
   EXPECT_GT(f.stats.sharp, 50);
   EXPECT_GT(f.stats.planes, 1000);
 }

@@ -3,8 +3,6 @@
 #include <ceres/loss_function.h>
 
 #include <Eigen/Eigenvalues>
-#include <chrono>
-#include <ctime>
 #include <optional>
 #include <stdexcept>
 
@@ -26,11 +24,6 @@ using sensor::LidarModel;
 using sensor::LidarModelFromName;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 struct PlaneMatch {
   Eigen::Vector3d p_s, m_w, q_w;
@@ -63,42 +56,64 @@ LocalFit Fit(const std::vector<Eigen::Vector3d>& pts) {
   return fit;
 }
 
-// Every `stride`-th element so that at most `cap` remain (times alongside when present).
+// Every `stride`-th element so that at most `cap` remain (times alongside when present), in
+// place (element j = floor(i * stride) >= i moves to i).
 void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>* times) {
   if (cap <= 0 || static_cast<int>(v->size()) <= cap) return;
   const bool with_times = times->size() == v->size();
-  const double step = static_cast<double>(v->size()) / cap;
-  std::vector<Eigen::Vector3d> out;
-  std::vector<double> out_times;
-  out.reserve(cap);
+  const double stride = static_cast<double>(v->size()) / cap;
   for (int i = 0; i < cap; ++i) {
-    const std::size_t j = static_cast<std::size_t>(i * step);
-    out.push_back((*v)[j]);
-    if (with_times) out_times.push_back((*times)[j]);
+    const std::size_t j = static_cast<std::size_t>(i * stride);
+    (*v)[i] = (*v)[j];
+    if (with_times) (*times)[i] = (*times)[j];
   }
-  v->swap(out);
-  if (with_times) times->swap(out_times);
+  v->resize(cap);
+  if (with_times) times->resize(cap);
+}
+
+// Moves the feature points measured along a sweep to its start frame (constant velocity over one
+// period, T_s_start_s_end the motion over the sweep).
+void DeskewScanPoints(const SE3d& T_s_start_s_end, double period, ScanFeatures* f) {
+  DeskewPoints(T_s_start_s_end, period, f->edge_times, &f->edges);
+  DeskewPoints(T_s_start_s_end, period, f->plane_times, &f->planes);
+}
+
+std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale) {
+  if (loss == RobustLoss::kHuber) return std::make_unique<ceres::HuberLoss>(scale);
+  if (loss == RobustLoss::kCauchy) return std::make_unique<ceres::CauchyLoss>(scale);
+  return nullptr;
+}
+
+void Notify(const StageObserver& observer, Stage stage) {
+  if (observer) observer(stage);
+}
+
+// The scan's features, capped to max_edge_points / max_plane_points (with per-point times when
+// deskewing).
+bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
+                         ScanFeatures* features, std::string* error) {
+  FeatureOptions feature_options = o.features;
+  feature_options.compute_times = deskew;
+  feature_options.num_threads = o.num_threads;
+  if (!ExtractFeatures(scan, feature_options, features, error)) return false;
+  if (!o.use_edges) features->edges.clear();
+  StrideSample(o.max_edge_points, &features->edges, &features->edge_times);
+  StrideSample(o.max_plane_points, &features->planes, &features->plane_times);
+  return true;
 }
 
 }  // namespace
 
-double ThreadCpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
-
 class LidarOdometry::Impl {
  public:
-  explicit Impl(int num_threads) : num_threads(std::max(1, num_threads)) {
-    if (this->num_threads > 1) arena = std::make_unique<tbb::task_arena>(this->num_threads);
-  }
-
-  // Stage clock: CPU time of this thread when single-threaded (robust to a loaded machine),
-  // wall-clock otherwise (the work is spread over threads).
-  double Now() const {
-    if (num_threads == 1) return ThreadCpuMs();
-    return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
+  explicit Impl(const LidarOdometryOptions& o) : loss(MakeLoss(o.loss, o.loss_scale)) {
+    if (o.num_threads > 1) arena = std::make_unique<tbb::task_arena>(o.num_threads);
+    if (o.sensor != "auto") sensor = LidarModelFromName(o.sensor);
+    criterion.translation_ratio = o.degeneracy_threshold;
+    criterion.rotation_ratio = o.degeneracy_rotation_threshold;
+    criterion.max_translation_information =
+        o.degeneracy_max_normal_alignment / (o.plane_sigma * o.plane_sigma);
+    criterion.max_rotation_information = o.degeneracy_max_rotation_information;
   }
 
   // matches = the successful match(point) over `points`, in point order; in parallel chunks when
@@ -127,276 +142,260 @@ class LidarOdometry::Impl {
     for (const auto& part : parts) matches->insert(matches->end(), part.begin(), part.end());
   }
 
-  int num_threads;
-  std::unique_ptr<tbb::task_arena> arena;
+  // Plane and edge correspondences (this->planes, this->edges) of the scan's feature points at
+  // the estimate T_w_s: the k nearest map points, a plane if all lie within plane_max_residual of
+  // their fitted plane, an edge if their covariance is elongated. Returns how many were found.
+  int FindCorrespondences(const VoxelMap& edge_map, const VoxelMap& plane_map,
+                          const ScanFeatures& points_s, const SE3d& T_w_s,
+                          const LidarOdometryOptions& o) {
+    const int k = std::min(o.num_neighbours, 16);
+    const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
+    const double edge_max_d = std::min(max_d, edge_map.options().voxel_size);
+    const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
+    const Eigen::Vector3d t_w_s = T_w_s.translation();
+    auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
+                           PlaneMatch* match) {
+      if (plane_map.KNearest(R_w_s * p_s + t_w_s, k, max_d, nb) < k) return false;
+      const LocalFit fit = Fit(*nb);
+      const Eigen::Vector3d m_w = fit.eigenvectors.col(0);
+      for (const auto& q_w : *nb)
+        if (std::abs(m_w.dot(q_w - fit.mean)) > o.plane_max_residual) return false;
+      *match = {p_s, m_w, fit.mean};
+      return true;
+    };
+    auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
+                          EdgeMatch* match) {
+      if (edge_map.KNearest(R_w_s * p_s + t_w_s, k, edge_max_d, nb) < k) return false;
+      const LocalFit fit = Fit(*nb);
+      if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) return false;
+      *match = {p_s, fit.mean, fit.eigenvectors.col(2)};
+      return true;
+    };
+    FindMatches(points_s.planes, match_plane, &planes);
+    FindMatches(points_s.edges, match_edge, &edges);
+    return static_cast<int>(planes.size() + edges.size());
+  }
+
+  std::unique_ptr<tbb::task_arena> arena;  // none: one thread
   std::unique_ptr<ceres::LossFunction> loss;
+  DegeneracyCriterion criterion;
   std::optional<LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<PlaneMatch> planes;
   std::vector<EdgeMatch> edges;
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
 
-  // The scan that seeded the map when it could not be deskewed (no motion known yet), kept raw
-  // until the next scan is registered: then it is deskewed with that motion and the map rebuilt.
-  struct Seed {
-    SE3d T_w_s;
-    std::vector<Eigen::Vector3d> edges, planes;
-    std::vector<double> edge_times, plane_times;
-  };
-  std::optional<Seed> seed;
+  // The first scan when deskewing: it cannot be deskewed (no motion known yet), so it seeds the
+  // map raw and is kept here, taken at T_w_s_seed, until the next scan is registered.
+  std::optional<ScanFeatures> seed;
+  SE3d T_w_s_seed;
 };
 
 LidarOdometry::LidarOdometry(const LidarOdometryOptions& options)
     : options_(options),
       edge_map_(options.edge_map),
       plane_map_(options.plane_map),
-      impl_(std::make_unique<Impl>(options.num_threads)) {
-  switch (options_.loss) {
-    case RobustLoss::kHuber:
-      impl_->loss = std::make_unique<ceres::HuberLoss>(options_.loss_scale);
-      break;
-    case RobustLoss::kCauchy:
-      impl_->loss = std::make_unique<ceres::CauchyLoss>(options_.loss_scale);
-      break;
-    case RobustLoss::kNone:
-      break;
-  }
-  if (options_.sensor != "auto") impl_->sensor = LidarModelFromName(options_.sensor);
-}
+      impl_(std::make_unique<Impl>(options)) {}
 
 LidarOdometry::~LidarOdometry() = default;
 
-SE3d LidarOdometry::Predict() const {
-  if (poses_.empty()) return SE3d();
-  if (poses_.size() < 2 || !options_.constant_velocity) return poses_.back();
-  const SE3d& last = poses_.back();
-  return last * (poses_[poses_.size() - 2].Inverse() * last);
+SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity) {
+  if (T_w_s.empty()) return SE3d();
+  const SE3d& T_w_s_prev = T_w_s.back();
+  if (T_w_s.size() < 2 || !constant_velocity) return T_w_s_prev;
+  const SE3d T_s_prev2_s_prev = T_w_s[T_w_s.size() - 2].Inverse() * T_w_s_prev;
+  return T_w_s_prev * T_s_prev2_s_prev;
+}
+
+void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vector3d>* edges,
+                    std::vector<Eigen::Vector3d>* planes, VoxelMap* edge_map, VoxelMap* plane_map) {
+  const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
+  const Eigen::Vector3d t_w_s = T_w_s.translation();
+  for (auto& p : *edges) p = R_w_s * p + t_w_s;
+  for (auto& p : *planes) p = R_w_s * p + t_w_s;
+  edge_map->AddPoints(*edges);
+  plane_map->AddPoints(*planes);
+  if (!remove_far) return;
+  edge_map->RemoveFar(t_w_s);
+  plane_map->RemoveFar(t_w_s);
 }
 
 FrameResult LidarOdometry::SkipFrame(const std::string& reason) {
   FrameResult result;
   result.ok = false;
   result.error = reason;
-  result.T_w_s = Predict();
+  result.T_w_s = PredictPose(poses_, options_.constant_velocity);
   poses_.push_back(result.T_w_s);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
   return result;
 }
 
-FrameResult LidarOdometry::ProcessScan(const LidarScan& scan) {
-  return ProcessScan(LidarScan(scan));
+FrameResult LidarOdometry::ProcessScan(const LidarScan& scan, const StageObserver& observer) {
+  return ProcessScan(LidarScan(scan), observer);
 }
 
-FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
-  const auto t_start = Clock::now();
-  const double cpu_start = ThreadCpuMs();
-  FrameResult result;
-  const LidarOdometryOptions& o = options_;
-
-  // 1. Rings.
-  double t0 = impl_->Now();
-  const bool has_ring = scan.ring.size() == scan.size();
-  if (o.ring_source == RingSource::kScanOrder ||
-      (o.ring_source == RingSource::kAuto && !has_ring)) {
-    AssignRingsFromScanOrder(&scan);
-  } else if (o.ring_source == RingSource::kElevation ||
-             (o.ring_source == RingSource::kAutoElevation && !has_ring)) {
-    if (!impl_->sensor) impl_->sensor = AutoDetectSensor(scan);
-    scan.ring.clear();
-    AssignRings(&scan, *impl_->sensor);
-  }
-  result.timing.rings = (impl_->Now() - t0);
-
-  // 2. Features (+ deskew).
-  t0 = impl_->Now();
+FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& observer) {
+  Notify(observer, Stage::kRings);
+  AssignScanRings(&scan);
+  Notify(observer, Stage::kFeatures);
   const bool deskew =
-      o.deskew == DeskewMode::kOn ||
-      (o.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
-  FeatureOptions feature_options = o.features;
-  feature_options.compute_times = deskew;
-  feature_options.num_threads = o.num_threads;
+      options_.deskew == DeskewMode::kOn ||
+      (options_.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
   ScanFeatures features;
   std::string error;
-  if (!ExtractFeatures(scan, feature_options, &features, &error)) {
-    FrameResult skipped = SkipFrame(error);
-    skipped.timing.total = MsSince(t_start);
-    skipped.timing.cpu = ThreadCpuMs() - cpu_start;
-    return skipped;
+  if (!ExtractScanFeatures(scan, options_, deskew, &features, &error)) {
+    Notify(observer, Stage::kDone);
+    return SkipFrame(error);
   }
+  FrameResult result;
   result.features = features.stats;
-  const SE3d T_pred = Predict();
-  if (!o.use_edges) features.edges.clear();
-  StrideSample(o.max_edge_points, &features.edges, &features.edge_times);
-  StrideSample(o.max_plane_points, &features.planes, &features.plane_times);
-  // Deskew: the feature points are moved to the scan-start frame with the motion over this
-  // sweep, T_{k-1}^-1 T (constant velocity), re-done with the current estimate in every round.
-  // While the map holds the raw seed scan (below), scans register raw against it: both are
-  // distorted alike by the sweep, which biases the estimate less than a deskewed scan against a
-  // raw map.
-  const bool seed_pending = impl_->seed.has_value();
-  const bool can_deskew = deskew && !poses_.empty() && !seed_pending;
-  const std::vector<Eigen::Vector3d> raw_edges =
-      can_deskew ? features.edges : std::vector<Eigen::Vector3d>();
-  const std::vector<Eigen::Vector3d> raw_planes =
-      can_deskew ? features.planes : std::vector<Eigen::Vector3d>();
-  std::vector<Eigen::Vector3d>& edge_pts = features.edges;
-  std::vector<Eigen::Vector3d>& plane_pts = features.planes;
-  auto deskew_with = [&](const SE3d& T_w_s) {
-    if (!can_deskew) return;
-    const SE3d motion = poses_.back().Inverse() * T_w_s;
-    edge_pts = raw_edges;
-    plane_pts = raw_planes;
-    DeskewPoints(motion, o.features.scan_period, features.edge_times, &edge_pts);
-    DeskewPoints(motion, o.features.scan_period, features.plane_times, &plane_pts);
-    result.deskewed = true;
-  };
-  deskew_with(T_pred);
-  result.edge_points = static_cast<int>(edge_pts.size());
-  result.plane_points = static_cast<int>(plane_pts.size());
-  result.timing.features = (impl_->Now() - t0);
-
-  SE3d T = T_pred;
-  const bool first = poses_.empty() || plane_map_.NumPoints() + edge_map_.NumPoints() <
-                                           static_cast<std::size_t>(o.min_correspondences);
-  bool registered = first;
-  if (!first) {
-    const int k = std::min(o.num_neighbours, 16);
-    const double max_d = std::min(o.max_correspondence_distance, plane_map_.options().voxel_size);
-    const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
-    for (int round = 0; round < max_rounds; ++round) {
-      // 3. Correspondences (after deskewing with the current estimate).
-      t0 = impl_->Now();
-      if (round > 0) deskew_with(T);
-      const Eigen::Matrix3d R = T.RotationMatrix();
-      const Eigen::Vector3d t = T.translation();
-      const double edge_max_d = std::min(max_d, edge_map_.options().voxel_size);
-      auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                             PlaneMatch* match) {
-        if (plane_map_.KNearest(R * p_s + t, k, max_d, nb) < k) return false;
-        const LocalFit fit = Fit(*nb);
-        const Eigen::Vector3d m = fit.eigenvectors.col(0);
-        for (const auto& q : *nb)
-          if (std::abs(m.dot(q - fit.mean)) > o.plane_max_residual) return false;
-        *match = {p_s, m, fit.mean};
-        return true;
-      };
-      auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                            EdgeMatch* match) {
-        if (edge_map_.KNearest(R * p_s + t, k, edge_max_d, nb) < k) return false;
-        const LocalFit fit = Fit(*nb);
-        if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) return false;
-        *match = {p_s, fit.mean, fit.eigenvectors.col(2)};
-        return true;
-      };
-      impl_->FindMatches(plane_pts, match_plane, &impl_->planes);
-      impl_->FindMatches(edge_pts, match_edge, &impl_->edges);
-      result.plane_correspondences = static_cast<int>(impl_->planes.size());
-      result.edge_correspondences = static_cast<int>(impl_->edges.size());
-      result.timing.correspondences += (impl_->Now() - t0);
-      if (result.plane_correspondences + result.edge_correspondences < o.min_correspondences) {
-        registered = false;
-        error = "too few correspondences (" +
-                std::to_string(result.plane_correspondences + result.edge_correspondences) + ")";
-        break;
-      }
-
-      // 4. Solve.
-      t0 = impl_->Now();
-      impl_->residuals.clear();
-      for (const PlaneMatch& m : impl_->planes)
-        impl_->residuals.emplace_back(
-            PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma));
-      for (const EdgeMatch& m : impl_->edges)
-        impl_->residuals.emplace_back(PointToEdgeFactor::Create(m.p_s, m.a_w + 0.1 * m.u_w,
-                                                                m.a_w - 0.1 * m.u_w, o.edge_sigma));
-      PoseSolverOptions solver_options;
-      solver_options.max_iterations = o.max_iterations;
-      SE3d T_solved = T;
-      const PoseSolverSummary summary =
-          SolvePose(impl_->residuals, impl_->loss.get(), solver_options, &T_solved);
-      result.solver_iterations += summary.iterations;
-      result.final_cost = summary.final_cost;
-      if (!summary.usable || !T_solved.translation().allFinite() ||
-          !T_solved.rotation().coeffs().allFinite()) {
-        registered = false;
-        error = "solver failed: " + summary.message;
-        result.timing.solve += (impl_->Now() - t0);
-        break;
-      }
-
-      // Degeneracy at the solution; keep the prediction along poorly constrained directions.
-      NormalEquations normal;
-      for (const PlaneMatch& m : impl_->planes)
-        normal.AddPlane(T_solved, m.p_s, m.m_w, o.plane_sigma);
-      for (const EdgeMatch& m : impl_->edges) normal.AddEdge(T_solved, m.p_s, m.u_w, o.edge_sigma);
-      DegeneracyCriterion criterion;
-      criterion.translation_ratio = o.degeneracy_threshold;
-      criterion.rotation_ratio = o.degeneracy_rotation_threshold;
-      criterion.max_translation_information =
-          o.degeneracy_max_normal_alignment / (o.plane_sigma * o.plane_sigma);
-      criterion.max_rotation_information = o.degeneracy_max_rotation_information;
-      result.degeneracy = normal.Analyse(criterion);
-      if (o.handle_degeneracy) T_solved = RemapSolution(T_pred, T_solved, result.degeneracy);
-      const Vector6d step = T_solved.Minus(T);
-      T = T_solved;
-      registered = true;
-      result.timing.solve += (impl_->Now() - t0);
-      result.association_rounds = round + 1;
-      const bool converged = step.tail<3>().norm() < o.convergence_translation &&
-                             step.head<3>().norm() < o.convergence_rotation_deg * M_PI / 180.0;
-      if (round + 1 >= o.association_rounds && converged) break;
-    }
-  }
-
-  // 5. Map update.
-  t0 = impl_->Now();
-  if (registered && !first) deskew_with(T);
-  result.ok = registered;
-  result.error = registered ? std::string() : error;
-  result.T_w_s = registered ? T : T_pred;
-  if (registered || edge_map_.NumPoints() + plane_map_.NumPoints() <
-                        static_cast<std::size_t>(o.min_correspondences)) {
-    if (deskew && !can_deskew && !seed_pending)
-      impl_->seed =
-          Impl::Seed{result.T_w_s, edge_pts, plane_pts, features.edge_times, features.plane_times};
-    if (registered && !first && seed_pending) {
-      // The sweep motion of the seed scan and of this one, by constant velocity: the motion
-      // between them. Both are deskewed with it and the map is rebuilt from them.
-      Impl::Seed& seed = *impl_->seed;
-      const SE3d motion = seed.T_w_s.Inverse() * result.T_w_s;
-      DeskewPoints(motion, o.features.scan_period, seed.edge_times, &seed.edges);
-      DeskewPoints(motion, o.features.scan_period, seed.plane_times, &seed.planes);
-      DeskewPoints(motion, o.features.scan_period, features.edge_times, &edge_pts);
-      DeskewPoints(motion, o.features.scan_period, features.plane_times, &plane_pts);
-      result.deskewed = true;
-      for (auto& p : seed.edges) p = seed.T_w_s * p;
-      for (auto& p : seed.planes) p = seed.T_w_s * p;
-      edge_map_.Clear();
-      plane_map_.Clear();
-      edge_map_.AddPoints(seed.edges);
-      plane_map_.AddPoints(seed.planes);
-      impl_->seed.reset();
-      result.map_rebuilt = true;
-    }
-    const Eigen::Matrix3d R = result.T_w_s.RotationMatrix();
-    const Eigen::Vector3d t = result.T_w_s.translation();
-    for (auto& p : edge_pts) p = R * p + t;
-    for (auto& p : plane_pts) p = R * p + t;
-    edge_map_.AddPoints(edge_pts);
-    plane_map_.AddPoints(plane_pts);
-  }
-  if (++impl_->frames_since_cleanup >= std::max(1, o.map_cleanup_every)) {
-    impl_->frames_since_cleanup = 0;
-    edge_map_.RemoveFar(result.T_w_s.translation());
-    plane_map_.RemoveFar(result.T_w_s.translation());
-  }
-  poses_.push_back(result.T_w_s);
-  result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
-  result.timing.map_update = (impl_->Now() - t0);
-  result.timing.total = MsSince(t_start);
-  result.timing.cpu = ThreadCpuMs() - cpu_start;
+  const SE3d T_w_s_pred = PredictPose(poses_, options_.constant_velocity);
+  RegisterToMap(T_w_s_pred, deskew, observer, &features, &result);
+  Notify(observer, Stage::kMapUpdate);
+  UpdateMap(deskew, &features, &result);
+  Notify(observer, Stage::kDone);
   return result;
+}
+
+void LidarOdometry::AssignScanRings(LidarScan* scan) {
+  const RingSource source = options_.ring_source;
+  const bool has_ring = scan->ring.size() == scan->size();
+  if (source == RingSource::kScanOrder || (source == RingSource::kAuto && !has_ring)) {
+    AssignRingsFromScanOrder(scan);
+  } else if (source == RingSource::kElevation ||
+             (source == RingSource::kAutoElevation && !has_ring)) {
+    if (!impl_->sensor) impl_->sensor = AutoDetectSensor(*scan);
+    scan->ring.clear();
+    AssignRings(scan, *impl_->sensor);
+  }
+}
+
+void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
+                                  const StageObserver& observer, ScanFeatures* features,
+                                  FrameResult* result) {
+  const LidarOdometryOptions& o = options_;
+  // While the map holds the raw seed scan, this scan registers raw against it (see UpdateMap).
+  result->deskewed = deskew && !poses_.empty() && !impl_->seed;
+  if (result->deskewed) {
+    impl_->raw_edges = features->edges;
+    impl_->raw_planes = features->planes;
+    DeskewFeatures(T_w_s_pred, features);
+  }
+  result->edge_points = static_cast<int>(features->edges.size());
+  result->plane_points = static_cast<int>(features->planes.size());
+  result->T_w_s = T_w_s_pred;
+  result->ok = true;  // the first scan (or a map still too small) is kept at the prediction
+  if (poses_.empty() || edge_map_.NumPoints() + plane_map_.NumPoints() <
+                            static_cast<std::size_t>(o.min_correspondences))
+    return;
+  const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
+  for (int round = 0; round < max_rounds; ++round) {
+    Notify(observer, Stage::kCorrespondences);
+    if (round > 0 && result->deskewed) DeskewFeatures(result->T_w_s, features);
+    const int found =
+        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, o);
+    result->plane_correspondences = static_cast<int>(impl_->planes.size());
+    result->edge_correspondences = static_cast<int>(impl_->edges.size());
+    result->ok = found >= o.min_correspondences;
+    if (!result->ok) {
+      result->error = "too few correspondences (" + std::to_string(found) + ")";
+      break;
+    }
+    Notify(observer, Stage::kSolve);
+    const SE3d T_w_s_before = result->T_w_s;
+    result->ok = SolveRound(T_w_s_pred, result);
+    if (!result->ok) break;
+    result->association_rounds = round + 1;
+    const Vector6d step = result->T_w_s.Minus(T_w_s_before);
+    const bool converged = step.tail<3>().norm() < o.convergence_translation &&
+                           step.head<3>().norm() < o.convergence_rotation_deg * M_PI / 180.0;
+    if (round + 1 >= o.association_rounds && converged) break;
+  }
+  if (!result->ok) result->T_w_s = T_w_s_pred;
+}
+
+void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) const {
+  const SE3d T_s_prev_s = poses_.back().Inverse() * T_w_s;  // the motion over this sweep
+  features->edges = impl_->raw_edges;
+  features->planes = impl_->raw_planes;
+  DeskewScanPoints(T_s_prev_s, options_.features.scan_period, features);
+}
+
+// One solve from result->T_w_s on the current correspondences; the solution is remapped to the
+// prediction along degenerate directions. False (error set) when the solver fails.
+bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
+  const LidarOdometryOptions& o = options_;
+  auto& residuals = impl_->residuals;
+  residuals.clear();
+  for (const PlaneMatch& m : impl_->planes)
+    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma));
+  for (const EdgeMatch& m : impl_->edges)
+    residuals.emplace_back(
+        PointToEdgeFactor::CreateFromDirection(m.p_s, m.a_w, m.u_w, o.edge_sigma));
+  PoseSolverOptions solver_options;
+  solver_options.max_iterations = o.max_iterations;
+  SE3d T_w_s = result->T_w_s;
+  const PoseSolverSummary summary = SolvePose(residuals, impl_->loss.get(), solver_options, &T_w_s);
+  result->solver_iterations += summary.iterations;
+  result->final_cost = summary.final_cost;
+  if (!summary.usable || !T_w_s.translation().allFinite() ||
+      !T_w_s.rotation().coeffs().allFinite()) {
+    result->error = "solver failed: " + summary.message;
+    return false;
+  }
+  // Degeneracy from the solver's normal equations at the solution (independent rows: a plane
+  // gives 1, an edge 2); keep the prediction along poorly constrained directions.
+  const int rows = static_cast<int>(impl_->planes.size() + 2 * impl_->edges.size());
+  result->degeneracy = AnalyseDegeneracy(summary.normal_equations.H, rows, impl_->criterion);
+  result->T_w_s =
+      o.handle_degeneracy ? RemapSolution(T_w_s_pred, T_w_s, result->degeneracy) : T_w_s;
+  return true;
+}
+
+void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* result) {
+  const LidarOdometryOptions& o = options_;
+  if (result->ok && result->deskewed) DeskewFeatures(result->T_w_s, features);
+  const bool add = result->ok || edge_map_.NumPoints() + plane_map_.NumPoints() <
+                                     static_cast<std::size_t>(o.min_correspondences);
+  if (add && result->association_rounds > 0 && impl_->seed) {
+    RebuildMapFromSeed(result->T_w_s, features);
+    result->deskewed = result->map_rebuilt = true;
+  } else if (add && deskew && poses_.empty()) {
+    impl_->seed = *features;
+    impl_->T_w_s_seed = result->T_w_s;
+  }
+  if (!add) {
+    features->edges.clear();
+    features->planes.clear();
+  }
+  const bool remove_far = ++impl_->frames_since_cleanup >= std::max(1, o.map_cleanup_every);
+  if (remove_far) impl_->frames_since_cleanup = 0;
+  UpdateLocalMap(result->T_w_s, remove_far, &features->edges, &features->planes, &edge_map_,
+                 &plane_map_);
+  poses_.push_back(result->T_w_s);
+  result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
+}
+
+// The seed scan, raw in the map, and this scan, registered raw against it (both distorted alike
+// by the sweep): both are deskewed with the motion between them (constant velocity) and the map is
+// rebuilt from them. Without this step the raw first scan stays in the map and the deskewed
+// second one is registered against it. Measured on 40 distorted sweeps (RPE over 39 pairs):
+//   plucker sim lidar --out sim_dist --scene urban --frames 40 --sensor vlp32 --distortion
+//   plucker lidar --data sim_dist --out dist.txt && plucker eval rpe --gt sim_dist/poses.txt
+//   --est dist.txt
+// with this step: translation mean 7.3 mm, max 27 mm, rotation max 0.29 deg; without it: mean
+// 23.8 mm, max 0.375 m and 1.41 deg (the first pair); deskew off: mean 13.5 mm.
+void LidarOdometry::RebuildMapFromSeed(const SE3d& T_w_s, ScanFeatures* features) {
+  ScanFeatures& seed = *impl_->seed;
+  const SE3d T_s_seed_s = impl_->T_w_s_seed.Inverse() * T_w_s;
+  DeskewScanPoints(T_s_seed_s, options_.features.scan_period, &seed);
+  DeskewScanPoints(T_s_seed_s, options_.features.scan_period, features);
+  edge_map_.Clear();
+  plane_map_.Clear();
+  UpdateLocalMap(impl_->T_w_s_seed, false, &seed.edges, &seed.planes, &edge_map_, &plane_map_);
+  impl_->seed.reset();
 }
 
 }  // namespace lidar

@@ -2,27 +2,28 @@
 // registration against a bounded local voxel map with the analytic point-to-edge and
 // point-to-plane factors (factors/lidar_factors.h) on the pose manifold, a robust loss, a
 // constant-velocity initial guess, a few re-association rounds, and degeneracy handling
-// (lidar/degeneracy.h). No file I/O: scans in, poses and statistics out.
+// (lidar/degeneracy.h). No file I/O, no clocks: scans in, poses and statistics out; the caller
+// times the stages through an optional StageObserver.
 //
-// Per scan:
-//   1. rings (kept from the scan, else from the firing order or the sensor's elevation table);
-//   2. features; when deskewing, the feature points are moved to the scan-start frame with the
-//      motion over the sweep T_{k-1}^-1 T, T being the current estimate (the constant-velocity
-//      prediction first, then re-done at every association round);
-//   3. prediction T_pred = T_{k-1} (T_{k-2}^-1 T_{k-1});
-//   4. `association_rounds` times (up to max_association_rounds while the pose still moves by
-//      more than the convergence thresholds in a round): transform the features with the current
-//      estimate, find correspondences in the local maps (5 nearest neighbours; edge if the largest
-//      eigenvalue of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
-//      neighbour lies within plane_max_residual of the fitted plane), solve (a few robust
-//      Levenberg-Marquardt iterations on the pose, lidar/pose_solver.h), then remap the solution
-//      along degenerate directions;
-//   5. the downsampled features, in the world frame, enter the maps; voxels farther than
-//      map max_distance from the sensor are dropped. When deskewing, the first scan cannot be
-//      deskewed (no motion yet): it seeds the map raw and, once the second scan is registered,
-//      is deskewed with that motion and the map is rebuilt from it and the second scan.
+// ProcessScan, per scan: rings (kept from the scan, else from the firing order or the sensor's
+// elevation table) and features, then
+//   1. predict: T_w_s_pred = T_w_s_prev T_s_prev2_s_prev (constant velocity, PredictPose);
+//   2. deskew (scans with per-point time): the feature points are moved to the scan-start frame
+//      with the sweep motion T_s_prev_s = T_w_s_prev^-1 T_w_s of the current estimate T_w_s;
+//   3. register against the map, `association_rounds` times (up to max_association_rounds while
+//      the pose still moves by more than the convergence thresholds): re-deskew, find
+//      correspondences in the local maps (5 nearest neighbours; edge if the largest eigenvalue
+//      of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
+//      neighbour lies within plane_max_residual of the fitted plane), solve (robust
+//      Levenberg-Marquardt on the pose, lidar/pose_solver.h), remap the solution along the
+//      degenerate directions of the solver's normal equations;
+//   4. update the map (UpdateLocalMap): the features enter the maps in the world frame; every
+//      map_cleanup_every frames voxels farther than max_distance are dropped. When deskewing,
+//      the first scan (no motion known yet) seeds the map raw and, once the second scan is
+//      registered, both are deskewed and the map rebuilt (odometry.cc: RebuildMapFromSeed).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,19 +87,8 @@ struct LidarOdometryOptions {
   bool handle_degeneracy = true;  // remap the solution along degenerate directions
   bool constant_velocity = true;  // else the prediction is the previous pose
   int map_cleanup_every = 10;     // frames between RemoveFar calls
-  int num_threads = 1;  // threads (TBB) for features and correspondences; > 1: wall-clock timings
+  int num_threads = 1;            // threads (TBB) for features and correspondences
 };
-
-// Milliseconds. The stages are measured in CPU time of the calling thread when num_threads = 1
-// (meaningful on a loaded machine), else in wall-clock time; `total` is wall-clock, `cpu` the
-// calling thread's CPU time.
-struct FrameTimings {
-  double rings = 0, features = 0, correspondences = 0, solve = 0, map_update = 0, total = 0;
-  double cpu = 0;
-};
-
-// CPU time consumed by the calling thread, in milliseconds (robust to a loaded machine).
-double ThreadCpuMs();
 
 struct FrameResult {
   bool ok = false;    // false: the pose is the prediction (see `error`)
@@ -114,8 +104,14 @@ struct FrameResult {
   bool deskewed = false;
   bool map_rebuilt = false;  // the seed scan, now deskewable, replaced its raw points in the map
   std::size_t map_points = 0;
-  FrameTimings timing;
 };
+
+// The stages of ProcessScan, in order; kDone ends a frame.
+enum class Stage { kRings, kFeatures, kCorrespondences, kSolve, kMapUpdate, kDone };
+constexpr int kNumStages = 5;  // before kDone
+// Called when a stage begins (correspondences and solve alternate over the association rounds),
+// and with kDone at the end of every frame: the caller reads its own clock there.
+using StageObserver = std::function<void(Stage)>;
 
 class LidarOdometry {
  public:
@@ -124,8 +120,8 @@ class LidarOdometry {
 
   // Registers one scan; the copy is needed when rings must be assigned (use the rvalue overload
   // to avoid it).
-  FrameResult ProcessScan(const LidarScan& scan);
-  FrameResult ProcessScan(LidarScan&& scan);
+  FrameResult ProcessScan(const LidarScan& scan, const StageObserver& observer = nullptr);
+  FrameResult ProcessScan(LidarScan&& scan, const StageObserver& observer = nullptr);
   // Records a frame that could not be read: its pose is the constant-velocity prediction.
   FrameResult SkipFrame(const std::string& reason);
 
@@ -136,12 +132,29 @@ class LidarOdometry {
 
  private:
   class Impl;
-  SE3d Predict() const;
+  // The steps of ProcessScan (odometry.cc).
+  void AssignScanRings(LidarScan* scan);
+  void RegisterToMap(const SE3d& T_w_s_pred, bool deskew, const StageObserver& observer,
+                     ScanFeatures* features, FrameResult* result);
+  void DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) const;
+  bool SolveRound(const SE3d& T_w_s_pred, FrameResult* result);
+  void UpdateMap(bool deskew, ScanFeatures* features, FrameResult* result);
+  void RebuildMapFromSeed(const SE3d& T_w_s, ScanFeatures* features);
   LidarOdometryOptions options_;
   VoxelMap edge_map_, plane_map_;
   std::vector<SE3d> poses_;  // one per processed or skipped frame
   std::unique_ptr<Impl> impl_;
 };
+
+// Step 1, prediction from the poses so far: T_w_s_prev T_s_prev2_s_prev (constant velocity), the
+// previous pose when constant_velocity is off or only one pose exists, identity for none.
+SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity);
+
+// Step 4, map update: a scan's feature points, given in the sensor frame and moved in place to
+// the world frame with T_w_s, enter the maps; with remove_far, voxels farther than their map's
+// max_distance from the sensor are then dropped.
+void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vector3d>* edges,
+                    std::vector<Eigen::Vector3d>* planes, VoxelMap* edge_map, VoxelMap* plane_map);
 
 }  // namespace lidar
 }  // namespace plucker

@@ -11,7 +11,9 @@
 
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/trajectory_io.h"
-#include "plucker/lidar/scan_test_utils.h"
+#include "plucker/sensor/lidar_model.h"
+#include "plucker/sim/lidar_scene.h"
+#include "plucker/sim/lidar_sim.h"
 
 namespace plucker {
 namespace lidar {
@@ -19,23 +21,30 @@ namespace {
 
 double AngleDeg(const Eigen::Quaterniond& q) { return LogSO3(q).norm() * 180.0 / M_PI; }
 
-// Ground-truth trajectory: forward 1 m per frame with a slow yaw (1 deg/frame) and small roll.
-SE3d TruePose(int i) {
-  const double yaw = i * M_PI / 180.0;
-  const Eigen::Quaterniond q = ExpSO3<double>(Eigen::Vector3d(0.002 * std::sin(i), 0.0, yaw));
-  return SE3d(q, Eigen::Vector3d(1.0 * i, 0.05 * i * i, 0.0));
+// A spinning LiDAR of `rings` beams evenly spread over [min_deg, max_deg] of elevation, 1000
+// firings per revolution, no motion distortion.
+sim::LidarSimOptions Beams(int rings, double min_deg, double max_deg, double noise) {
+  sim::LidarSimOptions o;
+  for (int b = 0; b < rings; ++b)
+    o.elevation_rad.push_back((min_deg + (max_deg - min_deg) * b / (rings - 1)) * M_PI / 180.0);
+  o.azimuth_steps = 1000;
+  o.range_noise_sigma = noise;
+  return o;
 }
 
+// The simulated street grid from its first corner at 10 m/s: 1 m per frame with a turn (up to
+// ~5 deg per frame), 32 beams, 1 cm range noise.
 TEST(LidarOdometryTest, RecoversKnownMotionOnSyntheticUrbanScans) {
-  const test::Scene scene = test::UrbanScene();
-  test::ScanPattern pattern;
-  pattern.noise = 0.01;
-  LidarOdometryOptions options;
-  LidarOdometry odometry(options);
+  const sim::LidarScene scene = sim::MakeUrbanScene();
+  const sim::VehicleTrajectory trajectory(scene.route);
+  const sim::LidarSimulator simulator(scene, Beams(32, -25, 10, 0.01));
+  LidarOdometry odometry;
+  const SE3d T_s0_w = trajectory.T_w_s(0.0).Inverse();
   const int frames = 8;
+  double turned_deg = 0.0;
   for (int i = 0; i < frames; ++i) {
-    const SE3d T_w_s = TruePose(0).Inverse() * TruePose(i);
-    const FrameResult r = odometry.ProcessScan(test::MakeScan(scene, TruePose(i), pattern, i + 1));
+    const SE3d T_s0_s = T_s0_w * trajectory.T_w_s(0.1 * i);
+    const FrameResult r = odometry.ProcessScan(simulator.Scan(trajectory, 0.1 * i, i));
     ASSERT_TRUE(r.ok) << r.error;
     EXPECT_GT(r.features.edges, 10);
     EXPECT_GT(r.features.planes, 100);
@@ -43,18 +52,21 @@ TEST(LidarOdometryTest, RecoversKnownMotionOnSyntheticUrbanScans) {
       EXPECT_GT(r.plane_correspondences, 100);
       EXPECT_FALSE(r.degeneracy.degenerate) << r.degeneracy.eigenvalues.transpose();
     }
-    const SE3d E = T_w_s.Inverse() * r.T_w_s;
+    const SE3d E = T_s0_s.Inverse() * r.T_w_s;
     EXPECT_LT(E.translation().norm(), 0.02) << "frame " << i;
     EXPECT_LT(AngleDeg(E.rotation()), 0.05) << "frame " << i;
+    turned_deg = AngleDeg(T_s0_s.rotation());
   }
+  EXPECT_GT(turned_deg, 5.0);  // the motion has a real turn, not only a straight line
 }
 
 TEST(LidarOdometryTest, SkippedFrameGetsConstantVelocityPrediction) {
-  const test::Scene scene = test::UrbanScene();
-  test::ScanPattern pattern;
+  const sim::LidarScene scene = sim::MakeUrbanScene();
+  const sim::VehicleTrajectory trajectory(scene.route);
+  const sim::LidarSimulator simulator(scene, Beams(32, -25, 10, 0.0));
   LidarOdometry odometry;
   for (int i = 0; i < 3; ++i)
-    ASSERT_TRUE(odometry.ProcessScan(test::MakeScan(scene, TruePose(i), pattern)).ok);
+    ASSERT_TRUE(odometry.ProcessScan(simulator.Scan(trajectory, 0.1 * i, i)).ok);
   const FrameResult skipped = odometry.SkipFrame("file.bin: truncated");
   EXPECT_FALSE(skipped.ok);
   EXPECT_EQ(skipped.error, "file.bin: truncated");
@@ -69,19 +81,56 @@ TEST(LidarOdometryTest, SkippedFrameGetsConstantVelocityPrediction) {
   EXPECT_EQ(odometry.poses().size(), 5u);
 }
 
-TEST(LidarOdometryTest, CorridorIsDetectedDegenerateAndStableAlongItsAxis) {
-  const test::Scene scene = test::CorridorScene();
-  test::ScanPattern pattern;
-  pattern.rings = 16;
-  pattern.min_elevation_deg = -15;
-  pattern.max_elevation_deg = 15;
-  pattern.noise = 0.005;
+// The caller times the stages: every frame visits them in order and ends with kDone.
+TEST(LidarOdometryTest, StageObserverSeesEveryStageOfAFrame) {
+  const sim::LidarScene scene = sim::MakeUrbanScene();
+  const sim::VehicleTrajectory trajectory(scene.route);
+  const sim::LidarSimulator simulator(scene, Beams(16, -15, 15, 0.0));
   LidarOdometry odometry;
-  // The sensor truly moves 0.5 m per frame along the corridor axis, which the scans cannot show.
+  std::vector<Stage> stages;
+  const StageObserver observer = [&](Stage s) { stages.push_back(s); };
+  odometry.ProcessScan(simulator.Scan(trajectory, 0.0, 0), observer);
+  EXPECT_EQ(stages,
+            (std::vector<Stage>{Stage::kRings, Stage::kFeatures, Stage::kMapUpdate, Stage::kDone}));
+  stages.clear();
+  const FrameResult r = odometry.ProcessScan(simulator.Scan(trajectory, 0.1, 1), observer);
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_GE(r.association_rounds, 2);
+  std::vector<Stage> expected = {Stage::kRings, Stage::kFeatures};
+  for (int round = 0; round < r.association_rounds; ++round) {
+    expected.push_back(Stage::kCorrespondences);
+    expected.push_back(Stage::kSolve);
+  }
+  expected.push_back(Stage::kMapUpdate);
+  expected.push_back(Stage::kDone);
+  EXPECT_EQ(stages, expected);
+  stages.clear();
+  odometry.ProcessScan(LidarScan(), observer);  // skipped: the frame still ends
+  EXPECT_EQ(stages.back(), Stage::kDone);
+}
+
+// The simulated corridor (6 m wide, 4 m high) seen by the HDL-64E model with 5 mm range noise,
+// the sensor driving its axis 200 m from either end wall (beyond its range): nothing in the
+// scans shows the motion along the axis. (With the 16-beam model and a map of a few scans the
+// one-ring plane fits leave 2-3 (1/sigma^2) per row along the axis, above the 1.3 ceiling, even
+// without noise: those frames are not flagged; docs/math/lidar-odometry.md, "Limitation".)
+TEST(LidarOdometryTest, CorridorIsDetectedDegenerateAndStableAlongItsAxis) {
+  const sim::LidarScene scene = sim::MakeCorridorScene();
+  const sim::VehicleTrajectory trajectory(scene.route);  // 10 m/s
+  const sensor::LidarModel hdl64 = sensor::HDL64();
+  sim::LidarSimOptions beams;
+  beams.elevation_rad = hdl64.elevation_rad;
+  beams.azimuth_steps = hdl64.azimuth_steps;
+  beams.range_noise_sigma = 0.005;
+  const sim::LidarSimulator simulator(scene, beams);
+  LidarOdometry odometry;
+  const double t0 = 20.0;  // 200 m along the first leg
+  const SE3d T_s0_w = trajectory.T_w_s(t0).Inverse();
   for (int i = 0; i < 6; ++i) {
-    const SE3d T_true(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5 * i, 0.1, 0.0));
+    const SE3d T_s0_s = T_s0_w * trajectory.T_w_s(t0 + 0.1 * i);
+    ASSERT_NEAR(T_s0_s.translation().x(), 1.0 * i, 1e-6);  // the true motion, along x
     const std::vector<SE3d> before = odometry.poses();
-    const FrameResult r = odometry.ProcessScan(test::MakeScan(scene, T_true, pattern, i + 1));
+    const FrameResult r = odometry.ProcessScan(simulator.Scan(trajectory, t0 + 0.1 * i, i));
     ASSERT_TRUE(r.ok) << r.error;
     if (i == 0) continue;
     EXPECT_TRUE(r.degeneracy.degenerate)
@@ -93,15 +142,58 @@ TEST(LidarOdometryTest, CorridorIsDetectedDegenerateAndStableAlongItsAxis) {
     const Vector6d v = r.degeneracy.eigenvectors.col(0);
     EXPECT_GT(std::abs(v(3)), 0.9) << v.transpose();
     // Along x the estimate keeps the (constant-velocity) prediction: no drift from noise.
-    SE3d predicted = before.back();
-    if (before.size() >= 2)
-      predicted = before.back() * (before[before.size() - 2].Inverse() * before.back());
+    const SE3d predicted = PredictPose(before, true);
     EXPECT_NEAR(r.T_w_s.translation().x(), predicted.translation().x(), 1e-3);
-    // The well-constrained directions stay right (the first frame fixes y = 0.1 as origin).
+    // The well-constrained directions stay right.
     EXPECT_NEAR(r.T_w_s.translation().y(), 0.0, 0.01);
     EXPECT_NEAR(r.T_w_s.translation().z(), 0.0, 0.01);
     EXPECT_LT(AngleDeg(r.T_w_s.rotation()), 0.1);
   }
+}
+
+// Step 1 alone: the prediction, against poses composed by hand.
+TEST(LidarOdometryStepsTest, PredictionIsConstantVelocity) {
+  EXPECT_LT(PredictPose({}, true).Minus(SE3d()).norm(), 1e-15);
+  // Scan 0 at the origin, scan 1 after 1 m forward and 10 deg of yaw.
+  const SE3d T_w_s0,
+      T_w_s1(ExpSO3<double>(Eigen::Vector3d(0, 0, 10 * M_PI / 180)), Eigen::Vector3d(1, 0, 0));
+  EXPECT_LT(PredictPose({T_w_s1}, true).Minus(T_w_s1).norm(), 1e-15);
+  EXPECT_LT(PredictPose({T_w_s0, T_w_s1}, false).Minus(T_w_s1).norm(), 1e-15);
+  // The same motion again: 20 deg of yaw at (1 + cos 10 deg, sin 10 deg, 0).
+  const SE3d T_w_s2_pred = PredictPose({T_w_s0, T_w_s1}, true);
+  EXPECT_LT((T_w_s2_pred.translation() - Eigen::Vector3d(1.984807753012208, 0.17364817766693033, 0))
+                .norm(),
+            1e-12);
+  EXPECT_LT((LogSO3(T_w_s2_pred.rotation()) - Eigen::Vector3d(0, 0, 20 * M_PI / 180)).norm(),
+            1e-12);
+}
+
+// Step 4 alone: the points enter the maps at T_w_s, and far voxels go when asked.
+TEST(LidarOdometryStepsTest, MapUpdatePlacesPointsAtThePoseAndDropsFarVoxels) {
+  VoxelMap edge_map({1.0, 10, 0.2, 50.0}), plane_map({1.0, 20, 0.3, 50.0});
+  // At x = 100 m, turned 90 deg left: the scan's x axis is the world's y axis.
+  const SE3d T_w_s(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ())),
+                   Eigen::Vector3d(100, 0, 0));
+  std::vector<Eigen::Vector3d> edges = {{1, 0, 0}}, planes = {{0, 2, 0}, {0, 0, 3}};
+  UpdateLocalMap(T_w_s, /*remove_far=*/false, &edges, &planes, &edge_map, &plane_map);
+  ASSERT_EQ(edge_map.Points().size(), 1u);
+  ASSERT_EQ(plane_map.Points().size(), 2u);
+  EXPECT_LT((edge_map.Points()[0] - Eigen::Vector3d(100, 1, 0)).norm(), 1e-5);
+  std::vector<Eigen::Vector3d> nb;
+  ASSERT_EQ(plane_map.KNearest({98, 0, 0}, 1, 0.5, &nb), 1);
+  EXPECT_LT((nb[0] - Eigen::Vector3d(98, 0, 0)).norm(), 1e-5);
+  ASSERT_EQ(plane_map.KNearest({100, 0, 3}, 1, 0.5, &nb), 1);
+  EXPECT_LT((nb[0] - Eigen::Vector3d(100, 0, 3)).norm(), 1e-5);
+  // Sensor 40 m away (within 50 m): nothing dropped; 500 m away: everything.
+  std::vector<Eigen::Vector3d> none;
+  const SE3d T_w_near(Eigen::Quaterniond::Identity(), Eigen::Vector3d(140, 0, 0));
+  UpdateLocalMap(T_w_near, /*remove_far=*/true, &none, &none, &edge_map, &plane_map);
+  EXPECT_EQ(edge_map.NumPoints() + plane_map.NumPoints(), 3u);
+  const SE3d T_w_far(Eigen::Quaterniond::Identity(), Eigen::Vector3d(600, 0, 0));
+  UpdateLocalMap(T_w_far, /*remove_far=*/false, &none, &none, &edge_map, &plane_map);
+  EXPECT_EQ(edge_map.NumPoints() + plane_map.NumPoints(), 3u);
+  UpdateLocalMap(T_w_far, /*remove_far=*/true, &none, &none, &edge_map, &plane_map);
+  EXPECT_EQ(edge_map.NumPoints() + plane_map.NumPoints(), 0u);
 }
 
 std::string KittiRoot() { return std::string(PLUCKER_SHARED_DATA_DIR) + "/kitti-odometry-00"; }

@@ -12,30 +12,25 @@ namespace {
 
 constexpr int kMaxRows = 8;  // largest residual block of the LiDAR factors is 3
 
-struct Linearisation {
-  double cost = 0.0;
-  Matrix6d H = Matrix6d::Zero();
-  Vector6d g = Vector6d::Zero();
-};
-
 double Rho(const ceres::LossFunction* loss, double s, double* weight) {
   if (loss == nullptr) {
-    if (weight) *weight = 1.0;
+    *weight = 1.0;
     return s;
   }
   double rho[3];
   loss->Evaluate(s, rho);
-  if (weight) *weight = rho[1];
+  *weight = rho[1];
   return rho[0];
 }
 
-// Cost at T, and (when lin != nullptr) the reweighted normal equations. False on a failed or
-// non-finite evaluation.
-bool Evaluate(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
-              const ceres::LossFunction* loss, const SE3d& T, double* cost, Linearisation* lin) {
-  if (lin) *lin = Linearisation();
+}  // namespace
+
+bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
+                             const ceres::LossFunction* loss, const SE3d& T_w_s,
+                             NormalEquations* eq) {
+  *eq = NormalEquations();
   double x[7];
-  T.ToParameters(x);
+  T_w_s.ToParameters(x);
   const double* parameters[1] = {x};
   Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus_jacobian;
   const PoseManifold manifold;
@@ -47,23 +42,19 @@ bool Evaluate(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals
   for (const auto& f : residuals) {
     const int rows = f->num_residuals();
     if (rows > kMaxRows) return false;
-    if (!f->Evaluate(parameters, r.data(), lin ? jacobians : nullptr)) return false;
-    const double s = r.head(rows).squaredNorm();
+    if (!f->Evaluate(parameters, r.data(), jacobians)) return false;
     double w = 1.0;
-    total += Rho(loss, s, lin ? &w : nullptr);
-    if (!lin) continue;
+    total += Rho(loss, r.head(rows).squaredNorm(), &w);
     // Tangent Jacobian (fixed-capacity storage: no allocation per residual).
     const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxRows, 6> J =
         J_ambient.topRows(rows) * plus_jacobian;
-    lin->H.noalias() += w * J.transpose() * J;
-    lin->g.noalias() += w * J.transpose() * r.head(rows);
+    eq->H.noalias() += w * J.transpose() * J;
+    eq->g.noalias() += w * J.transpose() * r.head(rows);
+    eq->num_residuals += rows;
   }
-  *cost = 0.5 * total;
-  if (lin) lin->cost = *cost;
-  return std::isfinite(total) && (!lin || (lin->H.allFinite() && lin->g.allFinite()));
+  eq->cost = 0.5 * total;
+  return std::isfinite(total) && eq->H.allFinite() && eq->g.allFinite();
 }
-
-}  // namespace
 
 PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
                             const ceres::LossFunction* loss, const PoseSolverOptions& options,
@@ -73,48 +64,43 @@ PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunctio
     summary.message = "no residuals";
     return summary;
   }
-  Linearisation lin;
-  double cost = 0.0;
-  if (!Evaluate(residuals, loss, *T_w_s, &cost, &lin)) {
+  NormalEquations& eq = summary.normal_equations;  // always at *T_w_s
+  if (!EvaluateNormalEquations(residuals, loss, *T_w_s, &eq)) {
     summary.message = "a residual failed to evaluate at the initial pose";
     return summary;
   }
-  summary.initial_cost = summary.final_cost = cost;
+  summary.initial_cost = eq.cost;
   summary.usable = true;
   double lambda = options.initial_lambda;
+  NormalEquations trial;
   for (int it = 0; it < options.max_iterations; ++it) {
     ++summary.iterations;
-    Matrix6d A = lin.H;
-    A.diagonal() += lambda * lin.H.diagonal().cwiseMax(1e-12);
+    Matrix6d A = eq.H;
+    A.diagonal() += lambda * eq.H.diagonal().cwiseMax(1e-12);
     const Eigen::LDLT<Matrix6d> ldlt(A);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
       summary.usable = it > 0;
       summary.message = "singular normal equations";
       break;
     }
-    const Vector6d dx = ldlt.solve(-lin.g);
+    const Vector6d dx = ldlt.solve(-eq.g);
     if (!dx.allFinite()) {
       summary.message = "non-finite step";
       break;
     }
     const SE3d T_new = T_w_s->Plus(dx);
-    double new_cost = 0.0;
-    if (Evaluate(residuals, loss, T_new, &new_cost, nullptr) && new_cost < cost) {
-      const double decrease = (cost - new_cost) / std::max(cost, 1e-300);
+    if (EvaluateNormalEquations(residuals, loss, T_new, &trial) && trial.cost < eq.cost) {
+      const double decrease = (eq.cost - trial.cost) / std::max(eq.cost, 1e-300);
       *T_w_s = T_new;
-      cost = new_cost;
+      std::swap(eq, trial);
       lambda = std::max(lambda / 10.0, 1e-12);
       if (decrease < options.function_tolerance || dx.norm() < options.step_tolerance) break;
-      if (it + 1 < options.max_iterations && !Evaluate(residuals, loss, *T_w_s, &cost, &lin)) {
-        summary.message = "a residual failed to evaluate";
-        break;
-      }
     } else {
       lambda *= 10.0;
       if (dx.norm() < options.step_tolerance) break;
     }
   }
-  summary.final_cost = cost;
+  summary.final_cost = eq.cost;
   return summary;
 }
 

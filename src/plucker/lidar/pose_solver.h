@@ -34,11 +34,27 @@ struct PoseSolverOptions {
   double initial_lambda = 1e-4;      // LM damping relative to diag(H)
 };
 
+// The reweighted normal equations of the residuals at one pose, in the tangent (dtheta, dt):
+//   H = sum_i w_i J_i^T J_i,  g = sum_i w_i J_i^T r_i,  w_i = rho'(|r_i|^2),  cost = F(T).
+struct NormalEquations {
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  double cost = 0.0;
+  int num_residuals = 0;  // rows over all residual blocks
+};
+
+// False when a residual fails to evaluate or the cost, H or g is not finite.
+bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
+                             const ceres::LossFunction* loss, const SE3d& T_w_s,
+                             NormalEquations* normal_equations);
+
 struct PoseSolverSummary {
   bool usable = false;  // false: a residual failed to evaluate or the normal equations are singular
   std::string message;  // why not usable
   int iterations = 0;
   double initial_cost = 0.0, final_cost = 0.0;
+  // At the returned pose, with its robust weights (what the degeneracy analysis takes).
+  NormalEquations normal_equations;
 };
 
 PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,

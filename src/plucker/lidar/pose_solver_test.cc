@@ -140,6 +140,71 @@ TEST(PoseSolverTest, AllPlanesParallelLeavesTheUnobservedDirectionsAlone) {
   EXPECT_TRUE(T.rotation().coeffs().allFinite());
 }
 
+// The normal equations are formed from the factors' ambient Jacobians through
+// PoseManifold::PlusJacobian: compare H = J^T J and g = J^T r with central differences of the
+// residuals through SE3d::Plus (the tangent that SolvePose steps in).
+TEST(PoseSolverTest, NormalEquationsMatchCentralDifferences) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int compared = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const SE3d T(ExpSO3<double>(Eigen::Vector3d(u(rng), u(rng), u(rng))),
+                 Eigen::Vector3d(5 * u(rng), 5 * u(rng), u(rng)));
+    const Eigen::Vector3d p_s(10 * u(rng), 10 * u(rng), 2 * u(rng)), q(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d m = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    for (const bool edge : {false, true}) {
+      Residuals residuals;
+      residuals.emplace_back(edge ? PointToEdgeFactor::CreateFromDirection(p_s, q, m, 0.05)
+                                  : PointToPlaneFactor::Create(p_s, m, q, 0.05));
+      auto r = [&](const SE3d& X) -> Eigen::VectorXd {
+        double x[7];
+        X.ToParameters(x);
+        const double* parameters[1] = {x};
+        Eigen::VectorXd v(residuals[0]->num_residuals());
+        EXPECT_TRUE(residuals[0]->Evaluate(parameters, v.data(), nullptr));
+        return v;
+      };
+      Eigen::MatrixXd J(residuals[0]->num_residuals(), 6);
+      const double h = 1e-6;
+      for (int k = 0; k < 6; ++k) {
+        Vector6d d = Vector6d::Zero();
+        d(k) = h;
+        J.col(k) = (r(T.Plus(d)) - r(T.Plus(-d))) / (2 * h);
+      }
+      NormalEquations eq;
+      ASSERT_TRUE(EvaluateNormalEquations(residuals, nullptr, T, &eq));
+      const Matrix6d H = J.transpose() * J;
+      const Vector6d g = J.transpose() * r(T);
+      EXPECT_LT((eq.H - H).norm(), 1e-5 * (1 + H.norm()));
+      EXPECT_LT((eq.g - g).norm(), 1e-5 * (1 + g.norm()));
+      EXPECT_NEAR(eq.cost, 0.5 * r(T).squaredNorm(), 1e-9 * (1 + eq.cost));
+      EXPECT_EQ(eq.num_residuals, edge ? 3 : 1);
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 100);
+}
+
+// The summary's normal equations are those of the returned pose, with its robust weights.
+TEST(PoseSolverTest, SummaryHoldsTheNormalEquationsAtTheSolution) {
+  std::mt19937 rng(13);
+  const SE3d T_true = Perturb(SE3d(), 0.3, 2.0, &rng);
+  const Residuals residuals = MakeProblem(T_true, 0.02, 0.1, &rng);
+  const ceres::HuberLoss loss(2.0);
+  for (const int iterations : {1, 2, 4, 10}) {
+    SE3d T = Perturb(T_true, 2.0 * M_PI / 180.0, 0.3, &rng);
+    PoseSolverOptions options;
+    options.max_iterations = iterations;
+    const PoseSolverSummary summary = SolvePose(residuals, &loss, options, &T);
+    ASSERT_TRUE(summary.usable) << summary.message;
+    NormalEquations at_solution;
+    ASSERT_TRUE(EvaluateNormalEquations(residuals, &loss, T, &at_solution));
+    EXPECT_EQ((summary.normal_equations.H - at_solution.H).norm(), 0.0) << iterations;
+    EXPECT_EQ(summary.normal_equations.cost, summary.final_cost);
+    EXPECT_EQ(summary.normal_equations.num_residuals, 600 + 3 * 200);
+  }
+}
+
 TEST(PoseSolverTest, BadInputIsReportedNotSolved) {
   Residuals none;
   SE3d T;
