@@ -247,10 +247,11 @@ int RunLidar(const LidarArgs& a) {
   const auto run_start = Clock::now();
   auto last_progress = run_start;
   const std::size_t n = seq.size();
+  LidarScan scan;  // refilled in place frame after frame (no per-frame allocation)
+  std::vector<Eigen::Vector3d> scan_points;
   for (std::size_t i = 0; i < n; ++i) {
     const auto t0 = Clock::now();
     const double cpu0 = lidar::ThreadCpuMs();
-    LidarScan scan;
     std::string error;
     const bool read_ok = seq.Read(i, &scan, &error);
     const double read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -260,12 +261,11 @@ int RunLidar(const LidarArgs& a) {
     times.push_back(stamp);
 
     lidar::FrameResult r;
-    std::vector<Eigen::Vector3d> scan_points;
     if (!read_ok) {
       r = odometry.SkipFrame(error);
     } else {
       if (!a.map.empty()) scan_points = scan.points;
-      r = odometry.ProcessScan(std::move(scan));
+      r = odometry.ProcessScan(std::move(scan));  // in place: the buffers stay with `scan`
     }
     if (!r.ok) skipped.push_back({{"frame", i}, {"reason", r.error}});
     if (r.ok && !a.map.empty()) {

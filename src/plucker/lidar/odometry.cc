@@ -150,6 +150,10 @@ class LidarOdometry::Impl {
   std::vector<EdgeMatch> edges;
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
   int frames_since_cleanup = 0;
+  // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
+  FeatureExtractor feature_extractor;
+  ScanFeatures features;
+  std::vector<Eigen::Vector3d> raw_edges, raw_planes;
 
   // The scan that seeded the map when it could not be deskewed (no motion known yet), kept raw
   // until the next scan is registered: then it is deskewed with that motion and the map rebuilt.
@@ -230,9 +234,9 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   feature_options.num_threads = o.num_threads;
-  ScanFeatures features;
+  ScanFeatures& features = impl_->features;
   std::string error;
-  if (!ExtractFeatures(scan, feature_options, &features, &error)) {
+  if (!impl_->feature_extractor.Extract(scan, feature_options, &features, &error)) {
     FrameResult skipped = SkipFrame(error);
     skipped.timing.total = MsSince(t_start);
     skipped.timing.cpu = ThreadCpuMs() - cpu_start;
@@ -250,10 +254,12 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan) {
   // raw map.
   const bool seed_pending = impl_->seed.has_value();
   const bool can_deskew = deskew && !poses_.empty() && !seed_pending;
-  const std::vector<Eigen::Vector3d> raw_edges =
-      can_deskew ? features.edges : std::vector<Eigen::Vector3d>();
-  const std::vector<Eigen::Vector3d> raw_planes =
-      can_deskew ? features.planes : std::vector<Eigen::Vector3d>();
+  std::vector<Eigen::Vector3d>& raw_edges = impl_->raw_edges;
+  std::vector<Eigen::Vector3d>& raw_planes = impl_->raw_planes;
+  if (can_deskew) {
+    raw_edges = features.edges;
+    raw_planes = features.planes;
+  }
   std::vector<Eigen::Vector3d>& edge_pts = features.edges;
   std::vector<Eigen::Vector3d>& plane_pts = features.planes;
   auto deskew_with = [&](const SE3d& T_w_s) {
