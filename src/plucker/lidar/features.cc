@@ -324,7 +324,7 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
     num_rings = std::max(num_rings, r + 1);
   }
   std::vector<Ring>& rings = buffers_->rings;
-  rings.resize(num_rings);
+  if (static_cast<int>(rings.size()) < num_rings) rings.resize(num_rings);  // never shrinks
   {
     std::vector<int>& counts = buffers_->counts;
     counts.assign(num_rings, 0);
@@ -357,7 +357,7 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   // Rings are independent: in parallel when asked, then concatenated in ring order (the same
   // result as one thread).
   std::vector<RingFeatures>& per_ring = buffers_->per_ring;
-  per_ring.resize(num_rings);
+  if (static_cast<int>(per_ring.size()) < num_rings) per_ring.resize(num_rings);
   if (o.num_threads > 1) {
     tbb::task_arena arena(o.num_threads);
     arena.execute([&] {
@@ -369,7 +369,8 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
     for (int r = 0; r < num_rings; ++r)
       SelectRingFeatures(rings[r], scan, o, &buffers_->scratch, &per_ring[r]);
   }
-  for (const RingFeatures& f : per_ring) {
+  for (int r = 0; r < num_rings; ++r) {
+    const RingFeatures& f = per_ring[r];
     if (!f.used) continue;
     ++stats.rings;
     stats.occluded_rejected += f.occluded_rejected;
