@@ -48,6 +48,11 @@ expect lidar-threads-same-poses 0 "" -- cmp "$T/est.txt" "$T/est2.txt"
 expect bench-lidar 0 "speed-up 2 vs 1 threads" -- \
   "$PLUCKER" bench lidar --data "$T/sim" --frames 4 --repeats 1 --threads 1 2
 expect bench-lidar-missing-folder nonzero "$T/nothing" -- "$PLUCKER" bench lidar --data "$T/nothing"
+expect bench-lidar-needs-data nonzero "--data is required" -- "$PLUCKER" bench lidar
+expect bench-lidar-long-folder 0 " 0-4 .* 5-9 .* 10-11 .*growth of the median total" -- \
+  bash -c "'$PLUCKER' bench lidar --long --data '$T/sim' --block 5 | tr '\n' ' '"
+expect bench-lidar-long-simulated 0 "simulated urban drive.* 0-3 .* 4-7 " -- \
+  bash -c "'$PLUCKER' bench lidar --long --sim-frames 8 --sensor vlp16 --block 4 | tr '\n' ' '"
 expect eval-ate-plot 0 "" -- "$PLUCKER" eval ate --gt "$T/sim/poses.txt" --est "$T/est.txt" \
   --align se3 --plot "$T/ate.svg"
 expect eval-plot-written 0 "<svg" -- head -c 400 "$T/ate.svg"

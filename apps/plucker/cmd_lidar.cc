@@ -124,10 +124,11 @@ int RunLidar(const LidarArgs& a) {
   const auto run_start = Clock::now();
   auto last_progress = run_start;
   const std::size_t n = seq.size();
+  LidarScan scan;  // refilled in place frame after frame (no per-frame allocation)
+  std::vector<Eigen::Vector3d> scan_points;
   for (std::size_t i = 0; i < n; ++i) {
     const auto t0 = Clock::now();
     const double cpu0 = ThreadCpuMs();
-    LidarScan scan;
     std::string error;
     const bool read_ok = seq.Read(i, &scan, &error);
     const double read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -137,7 +138,6 @@ int RunLidar(const LidarArgs& a) {
     times.push_back(stamp);
 
     lidar::FrameResult r;
-    std::vector<Eigen::Vector3d> scan_points;
     double odometry_ms = 0.0, odometry_cpu_ms = 0.0;
     if (!read_ok) {
       r = odometry.SkipFrame(error);
@@ -145,7 +145,7 @@ int RunLidar(const LidarArgs& a) {
       if (!a.map.empty()) scan_points = scan.points;
       const auto t1 = Clock::now();
       const double cpu1 = ThreadCpuMs();
-      r = odometry.ProcessScan(std::move(scan), stages.Observer());
+      r = odometry.ProcessScan(std::move(scan), stages.Observer());  // in place: buffers stay
       odometry_cpu_ms = ThreadCpuMs() - cpu1;
       odometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
     }

@@ -53,45 +53,73 @@ std::string Trim(const std::string& s) {
 }  // namespace
 
 std::string ReadFileToString(const std::string& path) {
+  std::string bytes;
+  ReadFileInto(path, &bytes);
+  return bytes;
+}
+
+void ReadFileInto(const std::string& path, std::string* bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  bytes->clear();
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  in.clear();
+  in.seekg(0);
+  in.clear();      // a pipe cannot seek: then its size is unknown (read in chunks below)
+  if (size > 0) {  // regular file: one read of the known size
+    bytes->resize(static_cast<std::size_t>(size));
+    in.read(&(*bytes)[0], size);
+    bytes->resize(static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) throw IoError(path, "read failed");
+    if (in.peek() == std::ifstream::traits_type::eof()) return;
+    in.clear();
+  }
+  // Unknown size, or a file that grew meanwhile: read the rest in chunks.
+  char chunk[65536];
+  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0)
+    bytes->append(chunk, static_cast<std::size_t>(in.gcount()));
   if (in.bad()) throw IoError(path, "read failed");
-  return ss.str();
 }
 
 LidarScan ParseKittiBin(const std::string& bytes, const std::string& name, ScanReadStats* stats) {
+  LidarScan scan;
+  ParseKittiBin(bytes, name, &scan, stats);
+  return scan;
+}
+
+void ParseKittiBin(const std::string& bytes, const std::string& name, LidarScan* scan,
+                   ScanReadStats* stats) {
   if (bytes.empty()) throw IoError(name, "empty scan (0 bytes)");
   if (bytes.size() % kRecordBytes != 0) {
     throw IoError(name, "truncated: size " + std::to_string(bytes.size()) +
                             " bytes is not a multiple of 16 (float32 x y z intensity records)");
   }
   const std::size_t n = bytes.size() / kRecordBytes;
-  LidarScan scan;
-  scan.points.reserve(n);
-  scan.intensity.reserve(n);
-  std::size_t dropped = 0;
+  scan->points.resize(n);  // filled below, then cut to the finite records
+  scan->intensity.resize(n);
+  scan->ring.clear();
+  scan->time.clear();
+  scan->timestamp = 0.0;
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const char* rec = bytes.data() + i * kRecordBytes;
     const float x = LoadFloatLE(rec), y = LoadFloatLE(rec + 4), z = LoadFloatLE(rec + 8);
-    float intensity = LoadFloatLE(rec + 12);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      ++dropped;
-      continue;
-    }
-    if (!std::isfinite(intensity)) intensity = 0.0f;
-    scan.points.emplace_back(x, y, z);
-    scan.intensity.push_back(intensity);
+    const float intensity = LoadFloatLE(rec + 12);
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
+    scan->points[kept] = Eigen::Vector3d(x, y, z);
+    scan->intensity[kept] = std::isfinite(intensity) ? intensity : 0.0f;
+    ++kept;
   }
+  scan->points.resize(kept);
+  scan->intensity.resize(kept);
   if (stats) {
     stats->points_in_file = n;
-    stats->non_finite_dropped = dropped;
+    stats->non_finite_dropped = n - kept;
   }
-  if (scan.points.empty()) {
+  if (kept == 0) {
     throw IoError(name, "no finite point (" + std::to_string(n) + " records, all NaN/Inf)");
   }
-  return scan;
 }
 
 LidarScan ReadKittiBin(const std::string& path, ScanReadStats* stats) {

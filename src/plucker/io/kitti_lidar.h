@@ -26,6 +26,11 @@ namespace io {
 // and counted in `stats`. The scan has points and intensity; ring/time are empty.
 LidarScan ParseKittiBin(const std::string& bytes, const std::string& name,
                         ScanReadStats* stats = nullptr);
+// The same into an existing scan, reusing the capacity of its channels (no allocation once they
+// are large enough: a sequence reader keeps one scan across frames). On error *scan is
+// unspecified.
+void ParseKittiBin(const std::string& bytes, const std::string& name, LidarScan* scan,
+                   ScanReadStats* stats = nullptr);
 // Reads a .bin file (adds "cannot open" / read errors to the above).
 LidarScan ReadKittiBin(const std::string& path, ScanReadStats* stats = nullptr);
 
@@ -49,6 +54,8 @@ void WriteKittiTimes(const std::string& path, const std::vector<double>& times);
 
 // Reads a whole file into a string; IoError if it cannot be opened or read.
 std::string ReadFileToString(const std::string& path);
+// The same into `*bytes`, reusing its capacity (one allocation for a sequence of similar files).
+void ReadFileInto(const std::string& path, std::string* bytes);
 
 }  // namespace io
 }  // namespace plucker

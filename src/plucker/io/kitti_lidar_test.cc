@@ -43,6 +43,53 @@ TEST(KittiBin, ParsesRecords) {
   EXPECT_TRUE(scan.time.empty());
 }
 
+// A reader keeps one scan across frames: parsing into it must replace every channel and reuse
+// the memory (no reallocation when the new frame is not larger).
+TEST(KittiBin, ParseIntoAScanReplacesItAndReusesItsMemory) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  LidarScan scan;
+  ParseKittiBin(Records({{1, 2, 3, 0.5f}, {4, 5, 6, 1}, {7, 8, 9, nan}}), "a.bin", &scan);
+  ASSERT_EQ(scan.size(), 3u);
+  EXPECT_FLOAT_EQ(scan.intensity[2], 0.0f);  // non-finite intensity -> 0
+  scan.ring = {0, 1, 2};                     // as the odometry leaves it (rings assigned in place)
+  scan.time = {0.0, 0.01, 0.02};
+  scan.timestamp = 5.0;
+  const Eigen::Vector3d* data = scan.points.data();
+  ScanReadStats stats;
+  ParseKittiBin(Records({{-1, -2, -3, 0.25f}, {nan, 0, 0, 0}}), "b.bin", &scan, &stats);
+  ASSERT_EQ(scan.size(), 1u);
+  EXPECT_EQ(scan.points[0], Eigen::Vector3d(-1, -2, -3));
+  ASSERT_EQ(scan.intensity.size(), 1u);
+  EXPECT_FLOAT_EQ(scan.intensity[0], 0.25f);
+  EXPECT_TRUE(scan.ring.empty());
+  EXPECT_TRUE(scan.time.empty());
+  EXPECT_EQ(scan.timestamp, 0.0);
+  EXPECT_EQ(stats.points_in_file, 2u);
+  EXPECT_EQ(stats.non_finite_dropped, 1u);
+  EXPECT_EQ(scan.points.data(), data);  // same buffer
+  EXPECT_THROW(ParseKittiBin(Records({{nan, 0, 0, 0}}), "c.bin", &scan), IoError);
+}
+
+TEST(KittiBin, ReadFileIntoReusesTheBuffer) {
+  const fs::path dir = TempDir("read_into");
+  std::string big(100000, 'x'), small = "0123456789";
+  WriteRaw(dir / "big", big);
+  WriteRaw(dir / "small", small);
+  WriteRaw(dir / "empty", "");
+  std::string bytes;
+  ReadFileInto((dir / "big").string(), &bytes);
+  EXPECT_EQ(bytes, big);
+  const char* data = bytes.data();
+  ReadFileInto((dir / "small").string(), &bytes);
+  EXPECT_EQ(bytes, small);
+  EXPECT_EQ(bytes.data(), data);
+  ReadFileInto((dir / "empty").string(), &bytes);
+  EXPECT_TRUE(bytes.empty());
+  EXPECT_EQ(ReadFileToString((dir / "big").string()), big);
+  EXPECT_THROW(ReadFileInto((dir / "absent").string(), &bytes), IoError);
+  fs::remove_all(dir);
+}
+
 TEST(KittiBin, DropsAndCountsNonFinite) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();

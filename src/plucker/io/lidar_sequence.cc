@@ -185,7 +185,11 @@ bool LidarSequence::Read(std::size_t i, LidarScan* scan, std::string* error,
     return false;
   }
   try {
-    *scan = format_ == Format::kPcd ? ReadPcd(f.path, stats) : ReadKittiBin(f.path, stats);
+    ReadFileInto(f.path, &read_buffer_);
+    if (format_ == Format::kPcd)
+      ParsePcd(read_buffer_, f.path, scan, stats);
+    else
+      ParseKittiBin(read_buffer_, f.path, scan, stats);
   } catch (const std::exception& e) {  // IoError, or bad_alloc on a corrupt header
     if (error) *error = e.what();
     return false;

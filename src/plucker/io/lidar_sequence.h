@@ -47,7 +47,10 @@ class LidarSequence {
   // Reads frame i (scan.timestamp = times()[i] when known). Per-frame problems (missing slot or
   // file, truncated, empty, unreadable, malformed) return false with `error` set to
   // "<file>: <problem>"; the caller skips the frame and records it. Never throws for those.
-  // `stats` (optional) receives the NaN/Inf points dropped.
+  // `stats` (optional) receives the NaN/Inf points dropped. The file bytes go through a buffer
+  // owned by the sequence and the scan's channels are refilled in place, so reading frame after
+  // frame into the same scan allocates nothing once the buffers are large enough (not for
+  // concurrent calls on one sequence). On failure *scan is unspecified.
   bool Read(std::size_t i, LidarScan* scan, std::string* error,
             ScanReadStats* stats = nullptr) const;
 
@@ -69,6 +72,7 @@ class LidarSequence {
   bool has_calib_ = false;
   std::vector<double> times_;
   bool has_point_time_ = false;
+  mutable std::string read_buffer_;  // file bytes of the last Read, reused
 };
 
 }  // namespace io

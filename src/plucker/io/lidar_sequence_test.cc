@@ -160,6 +160,32 @@ TEST_F(LidarSequenceTest, PcdFolderSortedByNameWithStampTimes) {
   EXPECT_EQ(scan.time.size(), 5u);
 }
 
+// One scan read frame after frame (as the apps do): each read replaces every channel.
+TEST_F(LidarSequenceTest, ReadingIntoTheSameScanReplacesIt) {
+  fs::create_directories(dir_ / "pcd");
+  LidarScan with_time = Scan(6, 0);
+  with_time.ring = {0, 0, 0, 1, 1, 1};
+  with_time.time = {0.0, 0.01, 0.02, 0.03, 0.04, 0.05};
+  WritePcd((dir_ / "pcd/000000.pcd").string(), with_time);
+  WritePcd((dir_ / "pcd/000001.pcd").string(), Scan(3, 7));
+  WritePcd((dir_ / "pcd/000002.pcd").string(), with_time);
+  const LidarSequence seq = LidarSequence::Open(dir_.string());
+  LidarScan scan;
+  std::string error;
+  int reads = 0;
+  for (std::size_t i : {0, 1, 2, 1}) {
+    ASSERT_TRUE(seq.Read(i, &scan, &error)) << error;
+    ++reads;
+    const bool full = i != 1;
+    ASSERT_EQ(scan.size(), full ? 6u : 3u);
+    EXPECT_EQ(scan.points[0].x(), full ? 0.0 : 7.0);
+    EXPECT_EQ(scan.ring.size(), full ? 6u : 0u);
+    EXPECT_EQ(scan.time.size(), full ? 6u : 0u);
+    EXPECT_EQ(scan.intensity.size(), scan.size());
+  }
+  EXPECT_EQ(reads, 4);
+}
+
 TEST_F(LidarSequenceTest, SimLayoutPrefersPcd) {
   MakeKitti(dir_);
   LidarScan s = Scan(5, 0);

@@ -249,6 +249,13 @@ PcdHeader ReadPcdHeader(const std::string& path) {
 }
 
 LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadStats* stats) {
+  LidarScan scan;
+  ParsePcd(bytes, name, &scan, stats);
+  return scan;
+}
+
+void ParsePcd(const std::string& bytes, const std::string& name, LidarScan* out,
+              ScanReadStats* stats) {
   const PcdHeader h = ParsePcdHeader(bytes, name);
   const std::size_t n = h.points;
   if (n == 0) throw IoError(name, "empty point cloud (0 points)");
@@ -361,7 +368,12 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
     }
   };
 
-  LidarScan scan;
+  LidarScan& scan = *out;  // its channels' capacity is reused
+  scan.points.clear();
+  scan.intensity.clear();
+  scan.ring.clear();
+  scan.time.clear();
+  scan.timestamp = 0.0;
   scan.points.reserve(n);
   if (ch.intensity >= 0) scan.intensity.reserve(n);
   if (ch.ring >= 0) scan.ring.reserve(n);
@@ -406,7 +418,6 @@ LidarScan ParsePcd(const std::string& bytes, const std::string& name, ScanReadSt
       if (t_min > 1.0) scan.timestamp = t_min;
     }
   }
-  return scan;
 }
 
 LidarScan ReadPcd(const std::string& path, ScanReadStats* stats) {

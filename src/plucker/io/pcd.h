@@ -55,6 +55,10 @@ PcdHeader ReadPcdHeader(const std::string& path);
 // Parses a whole .pcd file held in memory; `name` is used in error messages.
 LidarScan ParsePcd(const std::string& bytes, const std::string& name,
                    ScanReadStats* stats = nullptr);
+// The same into an existing scan, reusing the capacity of its channels (a sequence reader keeps
+// one scan across frames). On error *scan is unspecified.
+void ParsePcd(const std::string& bytes, const std::string& name, LidarScan* scan,
+              ScanReadStats* stats = nullptr);
 LidarScan ReadPcd(const std::string& path, ScanReadStats* stats = nullptr);
 
 // Writes x y z as float32, plus `intensity` (float32), `ring` (uint16) and `time` (float64,

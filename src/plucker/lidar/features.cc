@@ -1,11 +1,12 @@
 #include "plucker/lidar/features.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include <tsl/robin_set.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "plucker/geometry/fast_atan2.h"
 #include "plucker/lidar/voxel_key.h"
@@ -56,10 +57,27 @@ struct RingFeatures {
   std::vector<double> edge_times, plane_times;
   int occluded_rejected = 0, parallel_rejected = 0;
   bool used = false;  // enough points for the curvature window and the sectors
+
+  void Clear() {  // keeps the capacity
+    for (auto* v : {&sharp, &flat, &edges, &planes}) v->clear();
+    edge_times.clear();
+    plane_times.clear();
+    occluded_rejected = parallel_rejected = 0;
+    used = false;
+  }
+};
+
+// Per-ring working arrays, reused from ring to ring and scan to scan.
+struct RingScratch {
+  std::vector<Eigen::Vector3d> prefix;
+  std::vector<double> curvature;
+  std::vector<char> picked, label;
+  std::vector<int> order;
 };
 
 void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOptions& o,
-                        RingFeatures* out) {
+                        RingScratch* scratch, RingFeatures* out) {
+  out->Clear();
   const int k = std::max(1, o.curvature_half_window);
   const int n = static_cast<int>(ring.p.size());
   if (n < 2 * k + 1 + o.sectors) return;
@@ -74,16 +92,22 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   };
 
   // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
-  std::vector<Eigen::Vector3d> prefix(n + 1, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d>& prefix = scratch->prefix;
+  prefix.resize(n + 1);
+  prefix[0].setZero();
   for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
-  std::vector<double> curvature(n, 0.0);
+  std::vector<double>& curvature = scratch->curvature;
+  curvature.assign(n, 0.0);
   for (int i = k; i < n - k; ++i) {
     const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * ring.p[i];
     curvature[i] = diff.squaredNorm();
   }
 
   // Unreliable points (LOAM): occlusion boundaries and surfaces parallel to the beam.
-  std::vector<char> picked(n, 0), label(n, 0);
+  std::vector<char>& picked = scratch->picked;
+  std::vector<char>& label = scratch->label;
+  picked.assign(n, 0);
+  label.assign(n, 0);
   for (int i = k; i < n - k - 1; ++i) {
     const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
     const double jump = std::abs(d1 - d2) / std::min(d1, d2);
@@ -123,7 +147,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     }
   };
 
-  std::vector<int> order;
+  std::vector<int>& order = scratch->order;
   const int usable = n - 2 * k;
   for (int s = 0; s < o.sectors; ++s) {
     const int begin = k + usable * s / o.sectors;
@@ -153,11 +177,15 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     }
 
     // Flat: the smallest curvatures, by repeated selection (max_flat_per_sector is small).
+    // Branch-free scan: a picked point counts as +inf; the first of equal minima wins.
     for (count = 0; count < o.max_flat_per_sector; ++count) {
       int best = -1;
+      double best_curvature = o.plane_threshold;  // candidates are below the threshold
       for (int i = begin; i < end; ++i) {
-        if (picked[i] || curvature[i] >= o.plane_threshold) continue;
-        if (best < 0 || curvature[i] < curvature[best]) best = i;
+        const double c = picked[i] ? std::numeric_limits<double>::infinity() : curvature[i];
+        const bool better = c < best_curvature;
+        best = better ? i : best;
+        best_curvature = better ? c : best_curvature;
       }
       if (best < 0) break;
       label[best] = -1;
@@ -183,18 +211,54 @@ void Append(const std::vector<T>& from, std::vector<T>* to) {
   to->insert(to->end(), from.begin(), from.end());
 }
 
-}  // namespace
+// The set of voxel keys seen by one downsampling: open addressing with linear probing, at most
+// half full. A slot is occupied when its stamp equals the current pass, so starting a new pass
+// clears the whole set at once and the table is reused from scan to scan.
+class VoxelSet {
+ public:
+  // Starts a pass for up to n keys.
+  void Reset(std::size_t n) {
+    if (2 * n > keys_.size()) {
+      std::size_t size = 64;
+      while (size < 2 * n) size *= 2;
+      keys_.assign(size, 0);
+      stamps_.assign(size, 0);
+      pass_ = 0;
+    }
+    if (++pass_ == 0) {  // the stamp wrapped around: clear once
+      std::fill(stamps_.begin(), stamps_.end(), 0);
+      pass_ = 1;
+    }
+  }
+  // True when `key` was not in the set (it is now).
+  bool Insert(std::uint64_t key) {
+    const std::size_t mask = keys_.size() - 1;
+    for (std::size_t i = VoxelKeyHash()(key) & mask;; i = (i + 1) & mask) {
+      if (stamps_[i] != pass_) {
+        stamps_[i] = pass_;
+        keys_[i] = key;
+        return true;
+      }
+      if (keys_[i] == key) return false;
+    }
+  }
 
-void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
-                     std::vector<double>* times) {
+ private:
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> stamps_;
+  std::uint32_t pass_ = 0;
+};
+
+// VoxelDownsample with a caller-owned set (reused from call to call).
+void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points,
+                         std::vector<double>* times, VoxelSet* seen) {
   if (voxel_size <= 0.0 || points->empty()) return;
   const bool with_times = times != nullptr && times->size() == points->size();
   const double inv = 1.0 / voxel_size;
-  tsl::robin_set<std::uint64_t, VoxelKeyHash> seen;
-  seen.reserve(points->size());
+  seen->Reset(points->size());
   std::size_t out = 0;
   for (std::size_t i = 0; i < points->size(); ++i) {
-    if (!seen.insert(PackVoxel(VoxelOf((*points)[i], inv))).second) continue;
+    if (!seen->Insert(PackVoxel(VoxelOf((*points)[i], inv)))) continue;
     (*points)[out] = (*points)[i];
     if (with_times) (*times)[out] = (*times)[i];
     ++out;
@@ -203,9 +267,41 @@ void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
   if (with_times) times->resize(out);
 }
 
+}  // namespace
+
+void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
+                     std::vector<double>* times) {
+  VoxelSet seen;
+  VoxelDownsampleWith(voxel_size, points, times, &seen);
+}
+
+struct FeatureExtractor::Buffers {
+  std::vector<Ring> rings;
+  std::vector<int> counts;
+  std::vector<RingFeatures> per_ring;
+  RingScratch scratch;                                          // one thread
+  tbb::enumerable_thread_specific<RingScratch> thread_scratch;  // several
+  VoxelSet seen;
+};
+
+FeatureExtractor::FeatureExtractor() : buffers_(std::make_unique<Buffers>()) {}
+FeatureExtractor::~FeatureExtractor() = default;
+FeatureExtractor::FeatureExtractor(FeatureExtractor&&) noexcept = default;
+FeatureExtractor& FeatureExtractor::operator=(FeatureExtractor&&) noexcept = default;
+
 bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeatures* features,
                      std::string* error) {
-  *features = ScanFeatures();
+  FeatureExtractor extractor;
+  return extractor.Extract(scan, o, features, error);
+}
+
+bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
+                               ScanFeatures* features, std::string* error) {
+  for (auto* v : {&features->sharp, &features->edges, &features->flat, &features->planes})
+    v->clear();
+  features->edge_times.clear();
+  features->plane_times.clear();
+  features->stats = FeatureStats();
   FeatureStats& stats = features->stats;
   stats.input_points = static_cast<int>(scan.size());
   if (scan.ring.size() != scan.size()) {
@@ -227,12 +323,17 @@ bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeature
     }
     num_rings = std::max(num_rings, r + 1);
   }
-  std::vector<Ring> rings(num_rings);
+  std::vector<Ring>& rings = buffers_->rings;
+  if (static_cast<int>(rings.size()) < num_rings) rings.resize(num_rings);  // never shrinks
   {
-    std::vector<int> counts(num_rings, 0);
+    std::vector<int>& counts = buffers_->counts;
+    counts.assign(num_rings, 0);
     for (int r : scan.ring)
       if (r >= 0) ++counts[r];
     for (int r = 0; r < num_rings; ++r) {
+      rings[r].p.clear();
+      rings[r].depth.clear();
+      rings[r].source.clear();
       rings[r].p.reserve(counts[r]);
       rings[r].depth.reserve(counts[r]);
       if (has_time) rings[r].source.reserve(counts[r]);
@@ -255,41 +356,41 @@ bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeature
   stats.times_from_azimuth = times && !has_time;
   // Rings are independent: in parallel when asked, then concatenated in ring order (the same
   // result as one thread).
-  std::vector<RingFeatures> per_ring(num_rings);
+  std::vector<RingFeatures>& per_ring = buffers_->per_ring;
+  if (static_cast<int>(per_ring.size()) < num_rings) per_ring.resize(num_rings);
   if (o.num_threads > 1) {
     tbb::task_arena arena(o.num_threads);
     arena.execute([&] {
-      tbb::parallel_for(0, num_rings,
-                        [&](int r) { SelectRingFeatures(rings[r], scan, o, &per_ring[r]); });
+      tbb::parallel_for(0, num_rings, [&](int r) {
+        SelectRingFeatures(rings[r], scan, o, &buffers_->thread_scratch.local(), &per_ring[r]);
+      });
     });
   } else {
-    for (int r = 0; r < num_rings; ++r) SelectRingFeatures(rings[r], scan, o, &per_ring[r]);
+    for (int r = 0; r < num_rings; ++r)
+      SelectRingFeatures(rings[r], scan, o, &buffers_->scratch, &per_ring[r]);
   }
-  std::vector<Eigen::Vector3d> edges, planes;
-  std::vector<double> edge_times, plane_times;
-  for (const RingFeatures& f : per_ring) {
+  for (int r = 0; r < num_rings; ++r) {
+    const RingFeatures& f = per_ring[r];
     if (!f.used) continue;
     ++stats.rings;
     stats.occluded_rejected += f.occluded_rejected;
     stats.parallel_rejected += f.parallel_rejected;
     Append(f.sharp, &features->sharp);
     Append(f.flat, &features->flat);
-    Append(f.edges, &edges);
-    Append(f.planes, &planes);
-    Append(f.edge_times, &edge_times);
-    Append(f.plane_times, &plane_times);
+    Append(f.edges, &features->edges);
+    Append(f.planes, &features->planes);
+    Append(f.edge_times, &features->edge_times);
+    Append(f.plane_times, &features->plane_times);
   }
   if (stats.rings == 0) {
     *error = "no ring has enough valid points (" + std::to_string(stats.valid_points) +
              " valid of " + std::to_string(stats.input_points) + ")";
     return false;
   }
-  VoxelDownsample(o.edge_voxel_size, &edges, times ? &edge_times : nullptr);
-  VoxelDownsample(o.plane_voxel_size, &planes, times ? &plane_times : nullptr);
-  features->edges = std::move(edges);
-  features->planes = std::move(planes);
-  features->edge_times = std::move(edge_times);
-  features->plane_times = std::move(plane_times);
+  VoxelDownsampleWith(o.edge_voxel_size, &features->edges, times ? &features->edge_times : nullptr,
+                      &buffers_->seen);
+  VoxelDownsampleWith(o.plane_voxel_size, &features->planes,
+                      times ? &features->plane_times : nullptr, &buffers_->seen);
   stats.sharp = static_cast<int>(features->sharp.size());
   stats.edges = static_cast<int>(features->edges.size());
   stats.flat = static_cast<int>(features->flat.size());

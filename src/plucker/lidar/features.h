@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -74,9 +75,27 @@ struct ScanFeatures {
 // sensor/lidar_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be
 // in firing order. Returns false with `*error` set when the scan is unusable (no rings, mismatched
 // channel sizes, fewer than 2k+1 valid points on every ring). Non-finite points are skipped
-// (counted as invalid).
+// (counted as invalid). The vectors of `*features` are refilled in place (their capacity reused).
 bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
                      std::string* error);
+
+// ExtractFeatures for a stream of scans: keeps its working buffers (rings, curvature, per-ring
+// picks, the downsampling set) from one scan to the next, so that a long sequence does not
+// allocate and free megabytes per scan. Same results as ExtractFeatures.
+class FeatureExtractor {
+ public:
+  FeatureExtractor();
+  ~FeatureExtractor();
+  FeatureExtractor(FeatureExtractor&&) noexcept;
+  FeatureExtractor& operator=(FeatureExtractor&&) noexcept;
+
+  bool Extract(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
+               std::string* error);
+
+ private:
+  struct Buffers;
+  std::unique_ptr<Buffers> buffers_;
+};
 
 // Keeps one point per cubic voxel of side `voxel_size` (the first seen), preserving order. The
 // optional `times` vector is filtered alongside. voxel_size <= 0 leaves the input unchanged.

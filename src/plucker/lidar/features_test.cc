@@ -178,6 +178,45 @@ TEST(FeaturesTest, VoxelDownsampleKeepsOnePointPerVoxel) {
   EXPECT_DOUBLE_EQ(times[1], 25.0);
 }
 
+void ExpectSameFeatures(const ScanFeatures& a, const ScanFeatures& b) {
+  EXPECT_EQ(a.sharp, b.sharp);
+  EXPECT_EQ(a.edges, b.edges);
+  EXPECT_EQ(a.flat, b.flat);
+  EXPECT_EQ(a.planes, b.planes);
+  EXPECT_EQ(a.edge_times, b.edge_times);
+  EXPECT_EQ(a.plane_times, b.plane_times);
+  EXPECT_EQ(a.stats.occluded_rejected, b.stats.occluded_rejected);
+  EXPECT_EQ(a.stats.valid_points, b.stats.valid_points);
+}
+
+// The extractor keeps its buffers from scan to scan: a scan must come out as from a fresh
+// extraction whatever came before it (a larger scan, a smaller one, a failed one).
+TEST(FeaturesTest, ExtractorReusedAcrossScansMatchesFreshExtraction) {
+  test::ScanPattern pattern;
+  const LidarScan urban = test::MakeScan(test::UrbanScene(), SE3d(), pattern);
+  const LidarScan room = Ring(0.2, SquareRoom);
+  FeatureOptions options;
+  options.compute_times = true;
+  std::string error;
+  ScanFeatures fresh_urban, fresh_room;
+  ASSERT_TRUE(ExtractFeatures(urban, options, &fresh_urban, &error)) << error;
+  ASSERT_TRUE(ExtractFeatures(room, options, &fresh_room, &error)) << error;
+  ASSERT_GT(fresh_urban.planes.size(), 1000u);
+  FeatureExtractor extractor;
+  ScanFeatures f;
+  int compared = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    ASSERT_TRUE(extractor.Extract(urban, options, &f, &error)) << error;
+    ExpectSameFeatures(f, fresh_urban);
+    ASSERT_TRUE(extractor.Extract(room, options, &f, &error)) << error;
+    ExpectSameFeatures(f, fresh_room);
+    EXPECT_FALSE(extractor.Extract(LidarScan(), options, &f, &error));
+    EXPECT_TRUE(f.planes.empty());
+    compared += 2;
+  }
+  EXPECT_EQ(compared, 4);
+}
+
 TEST(FeaturesTest, SyntheticUrbanScanHasEdgesAndPlanes) {
   const sim::LidarScene scene = sim::MakeUrbanScene();
   const sim::VehicleTrajectory trajectory(scene.route);

@@ -91,11 +91,12 @@ void Notify(const StageObserver& observer, Stage stage) {
 // The scan's features, capped to max_edge_points / max_plane_points (with per-point times when
 // deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
-                         ScanFeatures* features, std::string* error) {
+                         FeatureExtractor* extractor, ScanFeatures* features,
+                         std::string* error) {
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   feature_options.num_threads = o.num_threads;
-  if (!ExtractFeatures(scan, feature_options, features, error)) return false;
+  if (!extractor->Extract(scan, feature_options, features, error)) return false;
   if (!o.use_edges) features->edges.clear();
   StrideSample(o.max_edge_points, &features->edges, &features->edge_times);
   StrideSample(o.max_plane_points, &features->planes, &features->plane_times);
@@ -184,6 +185,9 @@ class LidarOdometry::Impl {
   std::vector<PlaneMatch> planes;
   std::vector<EdgeMatch> edges;
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
+  FeatureExtractor feature_extractor;
+  ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
 
@@ -243,9 +247,9 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   const bool deskew =
       options_.deskew == DeskewMode::kOn ||
       (options_.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
-  ScanFeatures features;
+  ScanFeatures& features = impl_->features;  // kept across scans: no per-scan heap churn
   std::string error;
-  if (!ExtractScanFeatures(scan, options_, deskew, &features, &error)) {
+  if (!ExtractScanFeatures(scan, options_, deskew, &impl_->feature_extractor, &features, &error)) {
     Notify(observer, Stage::kDone);
     return SkipFrame(error);
   }

@@ -2,39 +2,79 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace plucker {
 namespace lidar {
+namespace {
+
+constexpr int kMaxPointsPerVoxel = 10000;
+constexpr std::size_t kBlockBytes = 256 * 1024;
+
+// log2 of the slots per pool block: the largest power of two whose slots fit in kBlockBytes.
+int BlockShift(std::size_t capacity) {
+  const std::size_t slots = std::max<std::size_t>(1, kBlockBytes / (capacity * sizeof(float) * 3));
+  int shift = 0;
+  while ((std::size_t{2} << shift) <= slots) ++shift;
+  return shift;
+}
+
+const VoxelMapOptions& Validated(const VoxelMapOptions& o) {
+  if (!(o.voxel_size > 0.0) || !std::isfinite(o.voxel_size))
+    throw std::invalid_argument("voxel map: voxel_size must be > 0, got " +
+                                std::to_string(o.voxel_size));
+  if (o.max_points_per_voxel < 1 || o.max_points_per_voxel > kMaxPointsPerVoxel)
+    throw std::invalid_argument("voxel map: max_points_per_voxel must be in 1.." +
+                                std::to_string(kMaxPointsPerVoxel) + ", got " +
+                                std::to_string(o.max_points_per_voxel));
+  return o;
+}
+
+}  // namespace
 
 VoxelMap::VoxelMap(const VoxelMapOptions& options)
-    : options_(options), inv_size_(1.0 / options.voxel_size) {}
+    : options_(Validated(options)),
+      inv_size_(1.0 / options.voxel_size),
+      capacity_(static_cast<std::size_t>(options.max_points_per_voxel)),
+      block_shift_(BlockShift(capacity_)),
+      block_mask_((std::uint32_t{1} << block_shift_) - 1) {}
+
+std::uint32_t VoxelMap::NewSlot() {
+  if (!free_slots_.empty()) {
+    const std::uint32_t slot = free_slots_.back();
+    free_slots_.pop_back();
+    return slot;
+  }
+  if ((num_slots_ >> block_shift_) >= blocks_.size())
+    blocks_.emplace_back(new Eigen::Vector3f[capacity_ << block_shift_]);
+  return num_slots_++;
+}
 
 int VoxelMap::AddPoints(const std::vector<Eigen::Vector3d>& points_w) {
   const float min_sq =
       static_cast<float>(options_.min_point_distance * options_.min_point_distance);
-  const std::size_t cap = static_cast<std::size_t>(std::max(1, options_.max_points_per_voxel));
   int added = 0;
   for (const Eigen::Vector3d& p : points_w) {
     if (!p.allFinite()) continue;
     const std::uint64_t key = PackVoxel(VoxelOf(p, inv_size_));
     auto it = voxels_.find(key);
-    if (it == voxels_.end()) {
-      it = voxels_.emplace(key, Voxel()).first;
-      it.value().points.reserve(std::min<std::size_t>(cap, 8));
-    }
-    std::vector<Eigen::Vector3f>& stored = it.value().points;
-    if (stored.size() >= cap) continue;
+    if (it == voxels_.end()) it = voxels_.emplace(key, Voxel{NewSlot(), 0}).first;
+    Voxel& voxel = it.value();
+    if (voxel.count >= capacity_) continue;
+    Eigen::Vector3f* stored = SlotPoints(voxel.slot);
     const Eigen::Vector3f pf = p.cast<float>();
     bool close = false;
-    for (const Eigen::Vector3f& q : stored) {
-      if ((q - pf).squaredNorm() < min_sq) {
+    for (std::uint32_t i = 0; i < voxel.count; ++i) {
+      if ((stored[i] - pf).squaredNorm() < min_sq) {
         close = true;
         break;
       }
     }
     if (close) continue;
-    stored.push_back(pf);
+    stored[voxel.count++] = pf;
     ++num_points_;
     ++added;
   }
@@ -52,7 +92,8 @@ void VoxelMap::RemoveFar(const Eigen::Vector3d& origin_w) {
         (static_cast<double>(static_cast<std::int64_t>((key >> 21) & kMask) - kOffset) + 0.5),
         (static_cast<double>(static_cast<std::int64_t>(key & kMask) - kOffset) + 0.5));
     if ((centre * options_.voxel_size - origin_w).squaredNorm() > max_sq) {
-      num_points_ -= it->second.points.size();
+      num_points_ -= it->second.count;
+      free_slots_.push_back(it->second.slot);
       it = voxels_.erase(it);
     } else {
       ++it;
@@ -83,7 +124,9 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
     if (gap_sq * size_sq > worst) return;
     const auto it = voxels_.find(PackVoxel(c + offset));
     if (it == voxels_.end()) return;
-    for (const Eigen::Vector3f& p : it->second.points) {
+    const Eigen::Vector3f* stored = SlotPoints(it->second.slot);
+    for (std::uint32_t i = 0; i < it->second.count; ++i) {
+      const Eigen::Vector3f& p = stored[i];
       const float d = (p - q).squaredNorm();
       if (d > worst) continue;
       int j = count < k ? count++ : k - 1;  // insertion into the sorted list
@@ -109,14 +152,18 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
 
 void VoxelMap::Clear() {
   voxels_.clear();
+  free_slots_.clear();
+  num_slots_ = 0;  // the blocks stay allocated and are refilled from slot 0
   num_points_ = 0;
 }
 
 std::vector<Eigen::Vector3d> VoxelMap::Points() const {
   std::vector<Eigen::Vector3d> out;
   out.reserve(num_points_);
-  for (const auto& kv : voxels_)
-    for (const Eigen::Vector3f& p : kv.second.points) out.push_back(p.cast<double>());
+  for (const auto& kv : voxels_) {
+    const Eigen::Vector3f* stored = SlotPoints(kv.second.slot);
+    for (std::uint32_t i = 0; i < kv.second.count; ++i) out.push_back(stored[i].cast<double>());
+  }
   return out;
 }
 

@@ -6,12 +6,20 @@
 //
 // Nearest neighbours: the query's voxel and its 26 neighbours are scanned, so every point within
 // `voxel_size` of the query is found (KNearest's max_distance must be <= voxel_size).
+//
+// Storage does not churn the heap: every voxel owns one fixed-capacity slot of
+// `max_points_per_voxel` points in a pool of blocks (~256 KB each) that only grows; the slots of
+// removed voxels are reused by new ones. On a long drive the map therefore stops allocating once
+// the kept region is full (a std::vector per voxel made and freed tens of thousands of small
+// blocks per cleanup, fragmenting the heap around the per-scan buffers). Memory is
+// 12 bytes * max_points_per_voxel per occupied voxel.
 #pragma once
 
 #include <tsl/robin_map.h>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "plucker/lidar/voxel_key.h"
@@ -21,13 +29,14 @@ namespace lidar {
 
 struct VoxelMapOptions {
   double voxel_size = 1.0;          // m; also the largest neighbour search radius
-  int max_points_per_voxel = 20;    // cap per voxel
+  int max_points_per_voxel = 20;    // cap per voxel (1..10000)
   double min_point_distance = 0.2;  // m; a new point closer than this to a stored one is skipped
   double max_distance = 100.0;      // m; voxels farther from the sensor are removed
 };
 
 class VoxelMap {
  public:
+  // Throws std::invalid_argument for voxel_size <= 0 or max_points_per_voxel outside 1..10000.
   explicit VoxelMap(const VoxelMapOptions& options = VoxelMapOptions());
 
   // Adds world points (non-finite ones are ignored). Returns the number actually stored.
@@ -42,18 +51,31 @@ class VoxelMap {
 
   std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return voxels_.size(); }
+  std::size_t NumSlots() const { return num_slots_; }  // slots ever made (pool size)
   bool empty() const { return num_points_ == 0; }
-  void Clear();
+  void Clear();  // keeps the pool for reuse
   std::vector<Eigen::Vector3d> Points() const;
   const VoxelMapOptions& options() const { return options_; }
 
  private:
   struct Voxel {
-    std::vector<Eigen::Vector3f> points;
+    std::uint32_t slot;   // index into the pool
+    std::uint32_t count;  // points stored, <= capacity_
   };
+  std::uint32_t NewSlot();
+  Eigen::Vector3f* SlotPoints(std::uint32_t slot) const {
+    return blocks_[slot >> block_shift_].get() + (slot & block_mask_) * capacity_;
+  }
+
   VoxelMapOptions options_;
   double inv_size_;
+  std::size_t capacity_;  // points per slot (max_points_per_voxel)
+  int block_shift_;       // slots per block = 2^block_shift_
+  std::uint32_t block_mask_;
   tsl::robin_map<std::uint64_t, Voxel, VoxelKeyHash> voxels_;
+  std::vector<std::unique_ptr<Eigen::Vector3f[]>> blocks_;
+  std::vector<std::uint32_t> free_slots_;  // slots of removed voxels
+  std::uint32_t num_slots_ = 0;
   std::size_t num_points_ = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 namespace plucker {
 namespace lidar {
@@ -68,6 +69,59 @@ TEST(VoxelMapTest, MemoryStaysFlatAsThePoseMovesFar) {
   EXPECT_GT(peak_after_warmup, 0u);
   EXPECT_LT(peak, 1.3 * peak_after_warmup);
   EXPECT_LT(map.NumVoxels(), 60000u);
+}
+
+// The heap is not churned on a long drive: the slots of removed voxels are reused, so the pool
+// stops growing once the kept region is full, however far the pose moves.
+TEST(VoxelMapTest, RemovedVoxelSlotsAreReused) {
+  VoxelMapOptions options;
+  options.max_distance = 30.0;
+  VoxelMap map(options);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-25, 25);
+  std::size_t slots_at_500 = 0;
+  int removals = 0;
+  for (int step = 0; step < 1500; ++step) {
+    const Eigen::Vector3d origin(2.0 * step, 0.0, 0.0);  // 3 km
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 300; ++i)
+      pts.push_back(origin + Eigen::Vector3d(u(rng), u(rng), 0.2 * u(rng)));
+    map.AddPoints(pts);
+    const std::size_t before = map.NumVoxels();
+    map.RemoveFar(origin);
+    removals += before > map.NumVoxels();
+    ASSERT_GE(map.NumSlots(), map.NumVoxels());
+    if (step == 500) slots_at_500 = map.NumSlots();
+  }
+  EXPECT_GT(removals, 1400);  // voxels were dropped at (nearly) every step
+  ASSERT_GT(slots_at_500, 0u);
+  EXPECT_LT(map.NumSlots(), 1.1 * slots_at_500);  // no growth over the last 2 km
+  // Contents are still right after many reuses: every stored point is near the last origin.
+  const Eigen::Vector3d last(2.0 * 1499, 0.0, 0.0);
+  for (const auto& p : map.Points()) ASSERT_LT((p - last).norm(), options.max_distance + 2.0);
+}
+
+TEST(VoxelMapTest, ClearThenRefill) {
+  VoxelMap map({0.5, 10, 0.0, 1e9});
+  for (int round = 0; round < 3; ++round) {
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 100; ++i) pts.emplace_back(0.1 * i + round, 0.0, 0.0);
+    EXPECT_EQ(map.AddPoints(pts), 100);
+    EXPECT_EQ(map.NumPoints(), 100u);
+    std::vector<Eigen::Vector3d> nn;
+    ASSERT_EQ(map.KNearest(Eigen::Vector3d(round + 0.31, 0, 0), 1, 0.5, &nn), 1);
+    EXPECT_NEAR(nn[0].x(), round + 0.3, 1e-6);
+    map.Clear();
+    EXPECT_TRUE(map.empty());
+    EXPECT_EQ(map.NumVoxels(), 0u);
+  }
+}
+
+TEST(VoxelMapTest, RejectsInvalidOptions) {
+  EXPECT_THROW(VoxelMap({1.0, 0, 0.1, 10.0}), std::invalid_argument);
+  EXPECT_THROW(VoxelMap({1.0, 10001, 0.1, 10.0}), std::invalid_argument);
+  EXPECT_THROW(VoxelMap({0.0, 10, 0.1, 10.0}), std::invalid_argument);
+  EXPECT_NO_THROW(VoxelMap({0.2, 1, 0.0, 1e12}));
 }
 
 TEST(VoxelMapTest, FarFromTheOriginAndNegativeCoordinates) {
