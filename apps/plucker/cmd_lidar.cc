@@ -57,9 +57,9 @@ void CheckOutputs(const LidarArgs& a, const io::LidarSequence& seq) {
     inputs.insert(Canonical((fs::path(seq.root()) / name).string()));
   if (!a.config.empty()) inputs.insert(Canonical(a.config));
   std::error_code ec;
-  for (const fs::path& gt_dir : {fs::path(a.data) / "poses", fs::path(seq.root()) / "poses"}) {
-    if (!fs::is_directory(gt_dir, ec)) continue;
-    for (const auto& e : fs::directory_iterator(gt_dir, ec)) inputs.insert(Canonical(e.path()));
+  for (const fs::path& dir_gt : {fs::path(a.data) / "poses", fs::path(seq.root()) / "poses"}) {
+    if (!fs::is_directory(dir_gt, ec)) continue;
+    for (const auto& e : fs::directory_iterator(dir_gt, ec)) inputs.insert(Canonical(e.path()));
   }
   if (fs::exists(fs::path(seq.root()) / "poses.txt", ec))
     inputs.insert(Canonical((fs::path(seq.root()) / "poses.txt").string()));

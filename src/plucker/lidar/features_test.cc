@@ -31,6 +31,17 @@ double SquareRoom(double az) {
   return 10.0 / std::max(std::abs(std::cos(az)), std::abs(std::sin(az)));
 }
 
+// The first scan of the simulated urban drive: 32 beams from -25 to +10 deg, 1000 firings per
+// revolution.
+LidarScan SimulatedUrbanScan() {
+  const sim::LidarScene scene = sim::MakeUrbanScene();
+  const sim::VehicleTrajectory trajectory(scene.route);
+  sim::LidarSimOptions beams;
+  for (int b = 0; b < 32; ++b) beams.elevation_rad.push_back((-25.0 + 35.0 * b / 31) * M_PI / 180);
+  beams.azimuth_steps = 1000;
+  return sim::LidarSimulator(scene, beams).Scan(trajectory, 0.0, 0);
+}
+
 bool NearCorner(const Eigen::Vector3d& p, double tol) {
   return std::abs(std::abs(p.x()) - 10.0) < tol && std::abs(std::abs(p.y()) - 10.0) < tol;
 }
@@ -192,8 +203,7 @@ void ExpectSameFeatures(const ScanFeatures& a, const ScanFeatures& b) {
 // The extractor keeps its buffers from scan to scan: a scan must come out as from a fresh
 // extraction whatever came before it (a larger scan, a smaller one, a failed one).
 TEST(FeaturesTest, ExtractorReusedAcrossScansMatchesFreshExtraction) {
-  test::ScanPattern pattern;
-  const LidarScan urban = test::MakeScan(test::UrbanScene(), SE3d(), pattern);
+  const LidarScan urban = SimulatedUrbanScan();
   const LidarScan room = Ring(0.2, SquareRoom);
   FeatureOptions options;
   options.compute_times = true;
@@ -218,12 +228,7 @@ TEST(FeaturesTest, ExtractorReusedAcrossScansMatchesFreshExtraction) {
 }
 
 TEST(FeaturesTest, SyntheticUrbanScanHasEdgesAndPlanes) {
-  const sim::LidarScene scene = sim::MakeUrbanScene();
-  const sim::VehicleTrajectory trajectory(scene.route);
-  sim::LidarSimOptions beams;  // 32 beams from -25 to +10 deg, 1000 firings per revolution
-  for (int b = 0; b < 32; ++b) beams.elevation_rad.push_back((-25.0 + 35.0 * b / 31) * M_PI / 180);
-  beams.azimuth_steps = 1000;
-  const LidarScan scan = sim::LidarSimulator(scene, beams).Scan(trajectory, 0.0, 0);
+  const LidarScan scan = SimulatedUrbanScan();
   ScanFeatures f;
   std::string error;
   ASSERT_TRUE(ExtractFeatures(scan, FeatureOptions(), &f, &error)) << error;

@@ -91,8 +91,7 @@ void Notify(const StageObserver& observer, Stage stage) {
 // The scan's features, capped to max_edge_points / max_plane_points (with per-point times when
 // deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
-                         FeatureExtractor* extractor, ScanFeatures* features,
-                         std::string* error) {
+                         FeatureExtractor* extractor, ScanFeatures* features, std::string* error) {
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   feature_options.num_threads = o.num_threads;

@@ -34,19 +34,19 @@ Errors RunDistorted(DeskewMode mode) {
   options.deskew = mode;
   LidarOdometry odometry(options);
   Errors errors;
-  std::vector<SE3d> truth;
+  std::vector<SE3d> T_w_s_gt;
   for (int i = 0; i < 10; ++i) {
     const double t0 = 0.1 * i;
-    truth.push_back(trajectory.T_w_s(t0));
+    T_w_s_gt.push_back(trajectory.T_w_s(t0));
     const FrameResult r = odometry.ProcessScan(simulator.Scan(trajectory, t0, i));
     EXPECT_TRUE(r.ok) << "frame " << i << ": " << r.error;
     if (i == 1) errors.rebuilt = r.map_rebuilt;
   }
   const auto& est = odometry.poses();
   for (std::size_t i = 1; i < est.size(); ++i) {
-    const SE3d rel_true = truth[i - 1].Inverse() * truth[i];
-    const SE3d rel_est = est[i - 1].Inverse() * est[i];
-    errors.translation_m.push_back((rel_true.Inverse() * rel_est).translation().norm());
+    const SE3d T_prev_cur_gt = T_w_s_gt[i - 1].Inverse() * T_w_s_gt[i];
+    const SE3d T_prev_cur_est = est[i - 1].Inverse() * est[i];
+    errors.translation_m.push_back((T_prev_cur_gt.Inverse() * T_prev_cur_est).translation().norm());
   }
   return errors;
 }

@@ -15,14 +15,13 @@ namespace {
 
 using Residuals = std::vector<std::unique_ptr<ceres::CostFunction>>;
 
-// Plane and edge correspondences of scan points seen from T_w_s_true: points on six planes of
+// Plane and edge correspondences of scan points seen from T_w_s_gt: points on six planes of
 // different orientations and on four lines, with range noise and a share of gross outliers.
-Residuals MakeProblem(const SE3d& T_w_s_true, double noise, double outlier_share,
-                      std::mt19937* rng) {
+Residuals MakeProblem(const SE3d& T_w_s_gt, double noise, double outlier_share, std::mt19937* rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> n(0.0, 1.0);
   Residuals residuals;
-  const SE3d T_s_w = T_w_s_true.Inverse();
+  const SE3d T_s_w = T_w_s_gt.Inverse();
   for (int i = 0; i < 600; ++i) {
     const Eigen::Vector3d m_w =
         Eigen::Vector3d(u(*rng), u(*rng), 0.3 + std::abs(u(*rng))).normalized() *
@@ -55,16 +54,16 @@ SE3d Perturb(const SE3d& T, double rotation_rad, double translation_m, std::mt19
 TEST(PoseSolverTest, ConvergesToTheTruePoseWithoutNoise) {
   std::mt19937 rng(3);
   for (int trial = 0; trial < 20; ++trial) {
-    const SE3d T_true = Perturb(SE3d(), 0.5, 3.0, &rng);
-    const Residuals residuals = MakeProblem(T_true, 0.0, 0.0, &rng);
-    SE3d T = Perturb(T_true, 5.0 * M_PI / 180.0, 0.5, &rng);
+    const SE3d T_w_s_gt = Perturb(SE3d(), 0.5, 3.0, &rng);
+    const Residuals residuals = MakeProblem(T_w_s_gt, 0.0, 0.0, &rng);
+    SE3d T = Perturb(T_w_s_gt, 5.0 * M_PI / 180.0, 0.5, &rng);
     PoseSolverOptions options;
     options.max_iterations = 30;
     options.function_tolerance = 0.0;
     options.step_tolerance = 1e-12;
     const PoseSolverSummary summary = SolvePose(residuals, nullptr, options, &T);
     ASSERT_TRUE(summary.usable) << summary.message;
-    EXPECT_LT(T.Minus(T_true).norm(), 1e-8) << "trial " << trial;
+    EXPECT_LT(T.Minus(T_w_s_gt).norm(), 1e-8) << "trial " << trial;
     EXPECT_LT(summary.final_cost, 1e-12);
     EXPECT_GT(summary.initial_cost, summary.final_cost);
   }
@@ -76,9 +75,9 @@ TEST(PoseSolverTest, MatchesCeresSolveWithRobustLoss) {
   std::mt19937 rng(5);
   for (const bool cauchy : {false, true}) {
     for (int trial = 0; trial < 5; ++trial) {
-      const SE3d T_true = Perturb(SE3d(), 0.3, 2.0, &rng);
-      const Residuals residuals = MakeProblem(T_true, 0.02, 0.1, &rng);
-      const SE3d T0 = Perturb(T_true, 2.0 * M_PI / 180.0, 0.2, &rng);
+      const SE3d T_w_s_gt = Perturb(SE3d(), 0.3, 2.0, &rng);
+      const Residuals residuals = MakeProblem(T_w_s_gt, 0.02, 0.1, &rng);
+      const SE3d T0 = Perturb(T_w_s_gt, 2.0 * M_PI / 180.0, 0.2, &rng);
       std::unique_ptr<ceres::LossFunction> loss;
       if (cauchy)
         loss = std::make_unique<ceres::CauchyLoss>(2.0);
@@ -117,7 +116,7 @@ TEST(PoseSolverTest, MatchesCeresSolveWithRobustLoss) {
       EXPECT_LT(T.Minus(T_ceres).norm(), 1e-6) << (cauchy ? "cauchy" : "huber") << " " << trial;
       EXPECT_NEAR(summary.final_cost, ceres_summary.final_cost,
                   1e-9 * (1.0 + ceres_summary.final_cost));
-      EXPECT_LT(T.Minus(T_true).norm(), 0.02);  // and it is close to the truth
+      EXPECT_LT(T.Minus(T_w_s_gt).norm(), 0.02);  // and it is close to the truth
     }
   }
 }
@@ -188,11 +187,11 @@ TEST(PoseSolverTest, NormalEquationsMatchCentralDifferences) {
 // The summary's normal equations are those of the returned pose, with its robust weights.
 TEST(PoseSolverTest, SummaryHoldsTheNormalEquationsAtTheSolution) {
   std::mt19937 rng(13);
-  const SE3d T_true = Perturb(SE3d(), 0.3, 2.0, &rng);
-  const Residuals residuals = MakeProblem(T_true, 0.02, 0.1, &rng);
+  const SE3d T_w_s_gt = Perturb(SE3d(), 0.3, 2.0, &rng);
+  const Residuals residuals = MakeProblem(T_w_s_gt, 0.02, 0.1, &rng);
   const ceres::HuberLoss loss(2.0);
   for (const int iterations : {1, 2, 4, 10}) {
-    SE3d T = Perturb(T_true, 2.0 * M_PI / 180.0, 0.3, &rng);
+    SE3d T = Perturb(T_w_s_gt, 2.0 * M_PI / 180.0, 0.3, &rng);
     PoseSolverOptions options;
     options.max_iterations = iterations;
     const PoseSolverSummary summary = SolvePose(residuals, &loss, options, &T);

@@ -69,12 +69,12 @@ TEST(LidarModel, RingFromElevation) {
 TEST(LidarModel, AssignRingsOnSimulatedScans) {
   for (const LidarModel& m : {HDL64(), VLP32(), VLP16()}) {
     LidarScan scan = Simulate(m);
-    const std::vector<int> truth = scan.ring;
+    const std::vector<int> rings_gt = scan.ring;
     scan.ring.clear();
     const RingAssignmentStats stats = AssignRings(&scan, m);
     EXPECT_EQ(stats.unassigned, 0u) << m.name;
     EXPECT_EQ(stats.rings_found, m.num_rings()) << m.name;
-    EXPECT_EQ(scan.ring, truth) << m.name;
+    EXPECT_EQ(scan.ring, rings_gt) << m.name;
     // An existing ring field is kept.
     scan.ring.assign(scan.size(), 3);
     EXPECT_EQ(AssignRings(&scan, m).rings_found, 1);
@@ -83,11 +83,11 @@ TEST(LidarModel, AssignRingsOnSimulatedScans) {
 
 TEST(LidarModel, ScanOrderRingsOnSimulatedScans) {
   LidarScan scan = Simulate(HDL64());
-  const std::vector<int> truth = scan.ring;
+  const std::vector<int> rings_gt = scan.ring;
   // Reverse the ring blocks (top beam first, as in KITTI): ring 0 must still be the lowest.
   const RingAssignmentStats stats = AssignRingsFromScanOrder(&scan);
   EXPECT_EQ(stats.rings_found, 64);
-  EXPECT_EQ(scan.ring, truth);
+  EXPECT_EQ(scan.ring, rings_gt);
 }
 
 TEST(LidarModel, AutoDetectOnSimulatedScans) {
