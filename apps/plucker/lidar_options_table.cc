@@ -329,12 +329,14 @@ std::string LidarOptionsMarkdown() {
   std::ostringstream out;
   const LidarConfig defaults;
   out << "| key | type | default | unit | meaning |\n|---|---|---|---|---|\n";
+  auto escape = [](std::string text) {  // a '|' would end the table cell
+    for (std::size_t p = text.find('|'); p != std::string::npos; p = text.find('|', p + 2))
+      text.replace(p, 1, "\\|");
+    return text;
+  };
   for (const LidarOption& o : LidarOptionTable()) {
-    std::string type = o.type;
-    for (std::size_t p = type.find('|'); p != std::string::npos; p = type.find('|', p + 2))
-      type.replace(p, 1, "\\|");
-    out << "| `" << o.key << "` | " << type << " | `" << o.get(defaults) << "` | " << o.unit
-        << " | " << o.doc << " |\n";
+    out << "| `" << o.key << "` | " << escape(o.type) << " | `" << o.get(defaults) << "` | "
+        << o.unit << " | " << escape(o.doc) << " |\n";
   }
   return out.str();
 }
