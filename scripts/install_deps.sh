@@ -6,6 +6,7 @@ packages=(
   build-essential cmake ccache pkg-config
   libeigen3-dev libceres-dev
   libyaml-cpp-dev libcli11-dev libnanoflann-dev robin-map-dev nlohmann-json3-dev libtbb-dev
+  libopencv-dev libopencv-contrib-dev  # images, line detectors and descriptors (vision, io)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
 )
