@@ -11,8 +11,6 @@ namespace plucker {
 
 namespace {
 
-using RowJacobian7 = Eigen::Matrix<double, 1, 7, Eigen::RowMajor>;
-
 bool Finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
 void Require(bool ok, const char* factor, const std::string& what) {
@@ -38,21 +36,12 @@ Eigen::Vector3d EdgeDirection(const char* factor, const Eigen::Vector3d& p_s,
 
 constexpr char kPlane[] = "PointToPlaneFactor";
 constexpr char kEdge[] = "PointToEdgeFactor";
-constexpr char kEdge2[] = "PointToEdge2Factor";
-constexpr char kEdgeScalar[] = "PointToEdgeScalarFactor";
 
 lidar_residuals::PointToPlane MakePlane(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
                                         const Eigen::Vector3d& q_w, double sigma) {
   Require(Finite(p_s) && Finite(m_w) && Finite(q_w), kPlane, "non-finite input");
   Require(std::abs(m_w.norm() - 1.0) <= 1e-6, kPlane, "the plane normal must be a unit vector");
   return {p_s, m_w.normalized(), q_w, CheckSigma(kPlane, sigma)};
-}
-
-lidar_residuals::PointToEdge MakeEdge(const char* name, const Eigen::Vector3d& p_s,
-                                      const Eigen::Vector3d& a_w, const Eigen::Vector3d& b_w,
-                                      double sigma) {
-  const Eigen::Vector3d u = EdgeDirection(name, p_s, a_w, b_w);
-  return {p_s, a_w, u, CheckSigma(name, sigma)};
 }
 
 lidar_residuals::PointToEdge MakeEdgeFromDirection(const char* name, const Eigen::Vector3d& p_s,
@@ -63,20 +52,16 @@ lidar_residuals::PointToEdge MakeEdgeFromDirection(const char* name, const Eigen
   return {p_s, a_w, u_w.normalized(), CheckSigma(name, sigma)};
 }
 
-lidar_residuals::PointToEdge2 MakeEdge2(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
-                                        const Eigen::Vector3d& b_w, double sigma) {
-  const Eigen::Vector3d u = EdgeDirection(kEdge2, p_s, a_w, b_w);
-  // e1: the unit axis least aligned with u, made orthogonal to u; e2 = u x e1.
-  Eigen::Index k;
-  u.cwiseAbs().minCoeff(&k);
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-  axis(k) = 1.0;
-  const Eigen::Vector3d e1 = (axis - u.dot(axis) * u).normalized();
-  const Eigen::Vector3d e2 = u.cross(e1);
-  return {p_s, a_w, e1, e2, CheckSigma(kEdge2, sigma)};
-}
-
 }  // namespace
+
+lidar_residuals::PointToEdge lidar_residuals::MakePointToEdge(const char* factor,
+                                                              const Eigen::Vector3d& p_s,
+                                                              const Eigen::Vector3d& a_w,
+                                                              const Eigen::Vector3d& b_w,
+                                                              double sigma) {
+  const Eigen::Vector3d u = EdgeDirection(factor, p_s, a_w, b_w);
+  return {p_s, a_w, u, CheckSigma(factor, sigma)};
+}
 
 // ---------------------------------------------------------------- PointToPlaneFactor
 
@@ -121,7 +106,7 @@ PointToEdgeFactor::PointToEdgeFactor(const lidar_residuals::PointToEdge& f)
 ceres::CostFunction* PointToEdgeFactor::Create(const Eigen::Vector3d& p_s,
                                                const Eigen::Vector3d& a_w,
                                                const Eigen::Vector3d& b_w, double sigma) {
-  return new PointToEdgeFactor(MakeEdge(kEdge, p_s, a_w, b_w, sigma));
+  return new PointToEdgeFactor(lidar_residuals::MakePointToEdge(kEdge, p_s, a_w, b_w, sigma));
 }
 
 ceres::CostFunction* PointToEdgeFactor::CreateFromDirection(const Eigen::Vector3d& p_s,
@@ -135,7 +120,8 @@ ceres::CostFunction* PointToEdgeFactor::CreateAutoDiff(const Eigen::Vector3d& p_
                                                        const Eigen::Vector3d& a_w,
                                                        const Eigen::Vector3d& b_w, double sigma) {
   return new ceres::AutoDiffCostFunction<lidar_residuals::PointToEdge, 3, 7>(
-      new lidar_residuals::PointToEdge(MakeEdge(kEdge, p_s, a_w, b_w, sigma)));
+      new lidar_residuals::PointToEdge(
+          lidar_residuals::MakePointToEdge(kEdge, p_s, a_w, b_w, sigma)));
 }
 
 bool PointToEdgeFactor::Evaluate(double const* const* parameters, double* residuals,
@@ -156,90 +142,6 @@ bool PointToEdgeFactor::Evaluate(double const* const* parameters, double* residu
     J_t << 0.0, -u_scaled_.z(), u_scaled_.y(), u_scaled_.z(), 0.0, -u_scaled_.x(), -u_scaled_.y(),
         u_scaled_.x(), 0.0;
     pose_block::WriteAmbient<3>(J_rot, J_t, q, jacobians[0]);
-  }
-  return true;
-}
-
-// ---------------------------------------------------------------- PointToEdge2Factor
-
-PointToEdge2Factor::PointToEdge2Factor(const lidar_residuals::PointToEdge2& f) : p_s_(f.p_s) {
-  E_scaled_.row(0) = f.e1_w.transpose() * f.inv_sigma;
-  E_scaled_.row(1) = f.e2_w.transpose() * f.inv_sigma;
-  offset_ = E_scaled_ * f.a_w;
-}
-
-ceres::CostFunction* PointToEdge2Factor::Create(const Eigen::Vector3d& p_s,
-                                                const Eigen::Vector3d& a_w,
-                                                const Eigen::Vector3d& b_w, double sigma) {
-  return new PointToEdge2Factor(MakeEdge2(p_s, a_w, b_w, sigma));
-}
-
-ceres::CostFunction* PointToEdge2Factor::CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                                        const Eigen::Vector3d& a_w,
-                                                        const Eigen::Vector3d& b_w, double sigma) {
-  return new ceres::AutoDiffCostFunction<lidar_residuals::PointToEdge2, 2, 7>(
-      new lidar_residuals::PointToEdge2(MakeEdge2(p_s, a_w, b_w, sigma)));
-}
-
-bool PointToEdge2Factor::Evaluate(double const* const* parameters, double* residuals,
-                                  double** jacobians) const {
-  Eigen::Quaterniond q;
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  if (!pose_block::Read(parameters[0], &q, &R, &t)) return false;
-  // Row i: e_i.(R p + t - a) = (R^T e_i).p + e_i.t - e_i.a.
-  const Eigen::Matrix<double, 2, 3> E_s = E_scaled_ * R;  // rows (R^T e_i)^T
-  Eigen::Map<Eigen::Vector2d> r(residuals);
-  r = E_s * p_s_ + E_scaled_ * t - offset_;
-  if (jacobians && jacobians[0]) {
-    Eigen::Matrix<double, 2, 3> J_rot;
-    J_rot.row(0) = p_s_.cross(E_s.row(0).transpose()).transpose();
-    J_rot.row(1) = p_s_.cross(E_s.row(1).transpose()).transpose();
-    pose_block::WriteAmbient<2>(J_rot, E_scaled_, q, jacobians[0]);
-  }
-  return true;
-}
-
-// ---------------------------------------------------------------- PointToEdgeScalarFactor
-
-PointToEdgeScalarFactor::PointToEdgeScalarFactor(const lidar_residuals::PointToEdge& f)
-    : p_s_(f.p_s), u_w_(f.u_w), a_w_(f.a_w), inv_sigma_(f.inv_sigma) {}
-
-ceres::CostFunction* PointToEdgeScalarFactor::Create(const Eigen::Vector3d& p_s,
-                                                     const Eigen::Vector3d& a_w,
-                                                     const Eigen::Vector3d& b_w, double sigma) {
-  return new PointToEdgeScalarFactor(MakeEdge(kEdgeScalar, p_s, a_w, b_w, sigma));
-}
-
-ceres::CostFunction* PointToEdgeScalarFactor::CreateAutoDiff(const Eigen::Vector3d& p_s,
-                                                             const Eigen::Vector3d& a_w,
-                                                             const Eigen::Vector3d& b_w,
-                                                             double sigma) {
-  const lidar_residuals::PointToEdge e = MakeEdge(kEdgeScalar, p_s, a_w, b_w, sigma);
-  return new ceres::AutoDiffCostFunction<lidar_residuals::PointToEdgeScalar, 1, 7>(
-      new lidar_residuals::PointToEdgeScalar{e.p_s, e.a_w, e.u_w, e.inv_sigma});
-}
-
-bool PointToEdgeScalarFactor::Evaluate(double const* const* parameters, double* residuals,
-                                       double** jacobians) const {
-  Eigen::Quaterniond q;
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  if (!pose_block::Read(parameters[0], &q, &R, &t)) return false;
-  const Eigen::Vector3d Y = u_w_.cross(R * p_s_ + t - a_w_);
-  const double distance = Y.norm();
-  residuals[0] = distance * inv_sigma_;
-  if (jacobians && jacobians[0]) {
-    Eigen::Map<RowJacobian7> J(jacobians[0]);
-    if (!(distance > 0.0)) {
-      J.setZero();  // the subgradient 0 at the kink (see the header)
-      return true;
-    }
-    // d|Y|/d p_w = (Y/|Y|)^T [u]x = ((Y x u)/|Y|)^T =: g^T; then as the plane with normal g.
-    const Eigen::Vector3d g = Y.cross(u_w_) * (inv_sigma_ / distance);
-    const Eigen::Vector3d g_s = R.transpose() * g;
-    const Eigen::Matrix<double, 1, 3> J_rot = p_s_.cross(g_s).transpose();
-    pose_block::WriteAmbient<1>(J_rot, g.transpose(), q, jacobians[0]);
   }
   return true;
 }

@@ -5,13 +5,12 @@
 // lidar-and-point-factors.md derives each Jacobian), with u = (a - b)/|a - b| the unit direction
 // of the edge through a and b, and Y = (p_w - b) x (p_w - a)/|a - b| = u x (p_w - a):
 //
-//   factor                   rows  residual r                                sigma |r|
-//   PointToPlaneFactor       1     m_w . (p_w - q_w) / sigma                 signed distance
-//   PointToEdgeFactor        3     Y / sigma                                 distance
-//   PointToEdge2Factor       2     E (p_w - a) / sigma, E = [e1^T; e2^T]     distance
-//                                  (e1, e2 orthonormal, orthogonal to u)
-//   PointToEdgeScalarFactor  1     |Y| / sigma (classic LOAM, comparison     distance
-//                                  only: kink at zero distance)
+//   factor               rows  residual r                       sigma |r|
+//   PointToPlaneFactor   1     m_w . (p_w - q_w) / sigma        signed distance
+//   PointToEdgeFactor    3     Y / sigma                        distance
+//
+// The comparison-only edge forms (2 rows E (p_w - a) / sigma, and LOAM's scalar |Y| / sigma)
+// are in verify/lidar_comparison_factors.h (checked and benchmarked, not installed).
 //
 // Jacobians are written w.r.t. the AMBIENT 7 parameters: J_ambient = J_tangent * MinusJacobian(x)
 // (pose_block::WriteAmbient; the exact derivative of the same residual with the quaternion
@@ -23,12 +22,6 @@
 // a == b (|a - b| <= 1e-12 (1 + max(|a|, |b|))), a normal whose norm is not within 1e-6 of one
 // (it is then re-normalised exactly), and sigma <= 0 or non-finite.
 // Evaluate returns false for non-finite parameters (including a zero quaternion).
-//
-// Scalar edge at zero distance: |Y| is not differentiable at Y = 0. Evaluate returns residual 0
-// and a ZERO Jacobian there (0 is in the subdifferential of |.| at 0, so it is a valid
-// subgradient), never NaN. Such a residual gives Gauss-Newton no information at the very
-// configuration every converged correspondence approaches, which is why the smooth vector forms are
-// preferred.
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
@@ -72,32 +65,10 @@ struct PointToEdge {
   }
 };
 
-struct PointToEdge2 {
-  Eigen::Vector3d p_s, a_w, e1_w, e2_w;
-  double inv_sigma;
-  template <typename T>
-  bool operator()(const T* pose, T* r) const {
-    const Eigen::Matrix<T, 3, 1> v = ScanPointToWorld(pose, p_s) - a_w.cast<T>();
-    r[0] = e1_w.cast<T>().dot(v) * T(inv_sigma);
-    r[1] = e2_w.cast<T>().dot(v) * T(inv_sigma);
-    return true;
-  }
-};
-
-struct PointToEdgeScalar {
-  Eigen::Vector3d p_s, a_w, u_w;
-  double inv_sigma;
-  template <typename T>
-  bool operator()(const T* pose, T* r) const {
-    using std::sqrt;
-    const Eigen::Matrix<T, 3, 1> p_w = ScanPointToWorld(pose, p_s);
-    const Eigen::Matrix<T, 3, 1> Y = u_w.cast<T>().cross(p_w - a_w.cast<T>());
-    const T sq = Y.squaredNorm();
-    // sqrt'(0) is infinite: return 0 with a zero derivative, as the analytic version does.
-    r[0] = sq > T(0) ? T(sqrt(sq)) * T(inv_sigma) : T(0);
-    return true;
-  }
-};
+// The validated data of a two-point edge residual: the checks of the edge Create() functions
+// (see the top of the file), throwing std::invalid_argument whose message starts with `factor`.
+PointToEdge MakePointToEdge(const char* factor, const Eigen::Vector3d& p_s,
+                            const Eigen::Vector3d& a_w, const Eigen::Vector3d& b_w, double sigma);
 
 }  // namespace lidar_residuals
 
@@ -137,39 +108,6 @@ class PointToEdgeFactor : public ceres::SizedCostFunction<3, 7> {
  private:
   explicit PointToEdgeFactor(const lidar_residuals::PointToEdge& f);
   Eigen::Vector3d p_s_, u_scaled_, a_w_;  // u_scaled = u / sigma
-};
-
-// r = [e1 . (p_w - a), e2 . (p_w - a)] / sigma: the minimal (2-dof) smooth edge residual.
-class PointToEdge2Factor : public ceres::SizedCostFunction<2, 7> {
- public:
-  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
-                                     const Eigen::Vector3d& b_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
-                                             const Eigen::Vector3d& b_w, double sigma = 1.0);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
-
- private:
-  explicit PointToEdge2Factor(const lidar_residuals::PointToEdge2& f);
-  Eigen::Vector3d p_s_;
-  Eigen::Matrix<double, 2, 3> E_scaled_;  // rows e1, e2 divided by sigma
-  Eigen::Vector2d offset_;                // E_scaled a
-};
-
-// r = |Y| / sigma (classic LOAM). Zero distance: residual 0, zero Jacobian (see top of file).
-class PointToEdgeScalarFactor : public ceres::SizedCostFunction<1, 7> {
- public:
-  static ceres::CostFunction* Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
-                                     const Eigen::Vector3d& b_w, double sigma = 1.0);
-  static ceres::CostFunction* CreateAutoDiff(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
-                                             const Eigen::Vector3d& b_w, double sigma = 1.0);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
-
- private:
-  explicit PointToEdgeScalarFactor(const lidar_residuals::PointToEdge& f);
-  Eigen::Vector3d p_s_, u_w_, a_w_;
-  double inv_sigma_;
 };
 
 }  // namespace plucker

@@ -14,6 +14,7 @@
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/verify/checks.h"
+#include "plucker/verify/lidar_comparison_factors.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
@@ -76,10 +77,10 @@ TEST(LidarFactors, CreateRejectsBadInput) {
   };
   edge_cases(PointToEdgeFactor::Create);
   edge_cases(PointToEdgeFactor::CreateAutoDiff);
-  edge_cases(PointToEdge2Factor::Create);
-  edge_cases(PointToEdge2Factor::CreateAutoDiff);
-  edge_cases(PointToEdgeScalarFactor::Create);
-  edge_cases(PointToEdgeScalarFactor::CreateAutoDiff);
+  edge_cases(verify::PointToEdge2Factor::Create);
+  edge_cases(verify::PointToEdge2Factor::CreateAutoDiff);
+  edge_cases(verify::PointToEdgeScalarFactor::Create);
+  edge_cases(verify::PointToEdgeScalarFactor::CreateAutoDiff);
 }
 
 TEST(LidarFactors, EvaluateRejectsNonFiniteOrZeroQuaternion) {
@@ -87,8 +88,8 @@ TEST(LidarFactors, EvaluateRejectsNonFiniteOrZeroQuaternion) {
   std::vector<CostPtr> factors;
   factors.emplace_back(PointToPlaneFactor::Create(p, m, a));
   factors.emplace_back(PointToEdgeFactor::Create(p, a, b));
-  factors.emplace_back(PointToEdge2Factor::Create(p, a, b));
-  factors.emplace_back(PointToEdgeScalarFactor::Create(p, a, b));
+  factors.emplace_back(verify::PointToEdge2Factor::Create(p, a, b));
+  factors.emplace_back(verify::PointToEdgeScalarFactor::Create(p, a, b));
   for (const auto& f : factors) {
     for (int i = 0; i < 7; ++i) {
       double x[7] = {0, 0, 0, 1, 0.1, 0.2, 0.3};
@@ -117,10 +118,12 @@ TEST(LidarFactors, ResidualsAreSignedAndUnsignedDistances) {
                 m.dot(p_w - a) / sigma, 1e-12);
     EXPECT_NEAR(Evaluate(*CostPtr(PointToEdgeFactor::Create(p_s, a, b, sigma)), x).r.norm(),
                 distance / sigma, 1e-10);
-    EXPECT_NEAR(Evaluate(*CostPtr(PointToEdge2Factor::Create(p_s, a, b, sigma)), x).r.norm(),
-                distance / sigma, 1e-10);
-    EXPECT_NEAR(Evaluate(*CostPtr(PointToEdgeScalarFactor::Create(p_s, a, b, sigma)), x).r(0),
-                distance / sigma, 1e-10);
+    EXPECT_NEAR(
+        Evaluate(*CostPtr(verify::PointToEdge2Factor::Create(p_s, a, b, sigma)), x).r.norm(),
+        distance / sigma, 1e-10);
+    EXPECT_NEAR(
+        Evaluate(*CostPtr(verify::PointToEdgeScalarFactor::Create(p_s, a, b, sigma)), x).r(0),
+        distance / sigma, 1e-10);
   }
 }
 
@@ -159,7 +162,8 @@ TEST(LidarFactors, ScalarEdgeAtZeroDistanceReturnsZeroJacobianNotNaN) {
   // Identity pose and p_s == a: Y = u x 0 is exactly zero.
   const Vector3d a(1, 2, 3), b(2, 3, 5);
   const double x[7] = {0, 0, 0, 1, 0, 0, 0};
-  for (auto create : {PointToEdgeScalarFactor::Create, PointToEdgeScalarFactor::CreateAutoDiff}) {
+  for (auto create :
+       {verify::PointToEdgeScalarFactor::Create, verify::PointToEdgeScalarFactor::CreateAutoDiff}) {
     const Eval e = Evaluate(*CostPtr(create(a, a, b, 0.5)), x);
     ASSERT_TRUE(e.ok);
     EXPECT_EQ(e.r(0), 0.0);
@@ -205,8 +209,8 @@ TEST(LidarFactors, GradientCheckerWithPoseManifold) {
     std::vector<CostPtr> factors;
     factors.emplace_back(PointToPlaneFactor::Create(p_s, m, a, 0.2));
     factors.emplace_back(PointToEdgeFactor::Create(p_s, a, b, 0.2));
-    factors.emplace_back(PointToEdge2Factor::Create(p_s, a, b, 0.2));
-    factors.emplace_back(PointToEdgeScalarFactor::Create(p_s, a, b, 0.2));
+    factors.emplace_back(verify::PointToEdge2Factor::Create(p_s, a, b, 0.2));
+    factors.emplace_back(verify::PointToEdgeScalarFactor::Create(p_s, a, b, 0.2));
     factors.emplace_back(PointToPlaneFactor::CreateAutoDiff(p_s, m, a, 0.2));
     factors.emplace_back(PointToEdgeFactor::CreateAutoDiff(p_s, a, b, 0.2));
     for (const auto& f : factors) {
@@ -274,10 +278,11 @@ SE3d Solve(const Scene& scene, const SE3d& initial, EdgeForm form, double sigma)
   initial.ToParameters(x);
   ceres::Problem problem;
   for (const auto& [p_s, ab] : scene.edges) {
-    problem.AddResidualBlock(form == EdgeForm::kVector3
-                                 ? PointToEdgeFactor::Create(p_s, ab.first, ab.second, sigma)
-                                 : PointToEdge2Factor::Create(p_s, ab.first, ab.second, sigma),
-                             nullptr, x);
+    problem.AddResidualBlock(
+        form == EdgeForm::kVector3
+            ? PointToEdgeFactor::Create(p_s, ab.first, ab.second, sigma)
+            : verify::PointToEdge2Factor::Create(p_s, ab.first, ab.second, sigma),
+        nullptr, x);
   }
   for (const auto& [p_s, mq] : scene.planes) {
     problem.AddResidualBlock(PointToPlaneFactor::Create(p_s, mq.first, mq.second, sigma), nullptr,

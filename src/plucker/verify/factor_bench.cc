@@ -10,6 +10,7 @@
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/geometry/orthonormal_line.h"
 #include "plucker/geometry/plucker_line.h"
+#include "plucker/verify/lidar_comparison_factors.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {

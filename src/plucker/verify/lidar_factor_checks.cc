@@ -14,6 +14,7 @@
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/cost_function_check.h"
+#include "plucker/verify/lidar_comparison_factors.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
