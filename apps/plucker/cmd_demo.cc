@@ -16,6 +16,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/io/trajectory_io.h"
+#include "plucker/sim/camera_observations.h"
 #include "plucker/testing/synthetic_problem.h"
 
 namespace plucker {
@@ -126,7 +127,8 @@ int RunCameraDemo(const DemoArgs& args, const std::filesystem::path& out) {
 
   const std::filesystem::path dir = out / "camera";
   std::filesystem::create_directories(dir / "simulation");
-  io::WriteCameraSimulation((dir / "simulation").string(), problem.simulation);
+  io::WriteCameraImuSequence((dir / "simulation").string(),
+                             sim::ToCameraImuSequence(problem.simulation));
   io::WriteKittiPoses((dir / "poses_gt.txt").string(), problem.T_w_c_gt);
   io::WriteKittiPoses((dir / "poses_initial.txt").string(), problem.initial.T_w_c);
   io::WriteKittiPoses((dir / "poses_ba.txt").string(), state.T_w_c);

@@ -29,7 +29,7 @@ struct SimCameraArgs {
 
 int Run(const SimCameraArgs& args) {
   std::string why;
-  if (!io::IsSafeToWriteCameraSimulation(args.out, &why)) {
+  if (!io::IsSafeToWriteCameraImuSequence(args.out, &why)) {
     throw io::IoError(args.out, "refusing to write: " + why +
                                     " (use a new or empty folder, or a previous simulation)");
   }
@@ -40,9 +40,9 @@ int Run(const SimCameraArgs& args) {
   options.seed = args.seed;
   options.obs.pixel_sigma = args.pixel_noise;
   options.obs.outlier_ratio = args.outliers;
-  options.imu.rate_hz = args.imu_rate;
+  options.imu.model.rate_hz = args.imu_rate;
   const sim::CameraSimulation sim = sim::SimulateCamera(options);
-  io::WriteCameraSimulation(args.out, sim);
+  io::WriteCameraImuSequence(args.out, sim::ToCameraImuSequence(sim));
 
   double path = 0.0;
   for (std::size_t i = 1; i < sim.T_w_b_gt.size(); ++i) {

@@ -169,7 +169,7 @@ class FileParser {
 };
 
 // Key-value files (scene.txt, rig.txt): the first field is the key.
-void ReadScene(const std::string& path, sim::Scene* scene) {
+void ReadScene(const std::string& path, sensor::CameraImuGroundTruth* scene) {
   const FileParser p(path);
   bool have_kind = false, have_free_space = false, have_counts = false;
   long long planes = 0, points = 0, segments = 0;
@@ -183,11 +183,7 @@ void ReadScene(const std::string& path, sim::Scene* scene) {
       have_counts = true;
     } else if (key == "kind") {
       p.ExpectFields(r, 2, "kind");
-      try {
-        scene->kind = sim::ParseSceneKind(r.fields[1]);
-      } catch (const std::invalid_argument& e) {
-        p.Fail(r, e.what());
-      }
+      scene->scene_kind = r.fields[1];
       have_kind = true;
     } else if (key == "free_space") {
       p.ExpectFields(r, 7, "free_space");
@@ -212,7 +208,7 @@ void ReadScene(const std::string& path, sim::Scene* scene) {
       p.ExpectFields(r, 8, "segment");
       p.Int(r, 1, static_cast<long long>(scene->segments_w.size()),
             static_cast<long long>(scene->segments_w.size()));
-      sim::LineSegment3 s{p.Vec3(r, 2), p.Vec3(r, 5)};
+      LineSegment3 s{p.Vec3(r, 2), p.Vec3(r, 5)};
       if ((s.b_w - s.a_w).norm() == 0.0) p.Fail(r, "zero-length segment");
       scene->segments_w.push_back(s);
     } else {
@@ -244,7 +240,7 @@ void CheckCount(const std::string& path, std::size_t found, long long expected) 
   }
 }
 
-void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts) {
+void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Counts* counts) {
   const FileParser p(path);
   if (p.first_line().rfind(kHeader, 0) != 0) {
     throw IoError(path + ":1", std::string("missing header line '") + kHeader + "'");
@@ -267,7 +263,7 @@ void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts
     (void)n;
     if (!by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
   }
-  sensor::CameraRig& rig = sim->rig;
+  sensor::CameraRig& rig = sequence->rig;
   const Record& image = *by_key["image"];
   rig.width = static_cast<int>(p.Int(image, 1, 2, 1 << 20));
   rig.height = static_cast<int>(p.Int(image, 2, 2, 1 << 20));
@@ -277,7 +273,7 @@ void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts
   const Record& tbc = *by_key["T_b_c"];
   rig.T_b_c = p.Pose(tbc, 1);
 
-  sim::ImuOptions& imu = sim->imu_options;
+  sensor::ImuModel& imu = sequence->imu_model;
   const Record& rate = *by_key["imu_rate_hz"];
   imu.rate_hz = p.Double(rate, 1);
   if (!(imu.rate_hz > 0)) p.Fail(rate, "imu_rate_hz must be positive");
@@ -290,11 +286,12 @@ void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts
     if (p.Double(noise, i) < 0) p.Fail(noise, "imu_noise: densities must be >= 0");
   }
   const Record& bias = *by_key["imu_initial_bias"];
-  imu.initial_gyro_bias = p.Vec3(bias, 1);
-  imu.initial_accel_bias = p.Vec3(bias, 4);
-  imu.gravity_w = p.Vec3(*by_key["gravity"], 1);
+  sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
+  gt.initial_gyro_bias = p.Vec3(bias, 1);
+  gt.initial_accel_bias = p.Vec3(bias, 4);
+  sequence->gravity_w = p.Vec3(*by_key["gravity"], 1);
 
-  sim::ObservationOptions& obs = sim->obs_options;
+  sensor::ObservationModel& obs = sequence->observation_model;
   const Record& sigma = *by_key["pixel_sigma"];
   obs.pixel_sigma = p.Double(sigma, 1);
   if (obs.pixel_sigma < 0) p.Fail(sigma, "pixel_sigma must be >= 0");
@@ -322,115 +319,123 @@ void ReadRig(const std::string& path, sim::CameraSimulation* sim, Counts* counts
 }
 
 void ReadFrames(const std::string& trajectory_path, const std::string& body_path,
-                sim::CameraSimulation* sim) {
+                sensor::CameraImuSequence* sequence) {
+  std::vector<double>& frame_times = sequence->frame_times;
+  sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
   const FileParser tp(trajectory_path);
   for (const Record& r : tp.records()) {
     tp.ExpectFields(r, 8, "trajectory row (t tx ty tz qx qy qz qw)");
     const double t = tp.Double(r, 0);
-    if (!sim->frame_times.empty() && !(t > sim->frame_times.back())) {
+    if (!frame_times.empty() && !(t > frame_times.back())) {
       tp.Fail(r, "frame times must increase");
     }
-    sim->frame_times.push_back(t);
-    sim->T_w_c_gt.push_back(tp.Pose(r, 1));
+    frame_times.push_back(t);
+    gt.T_w_c.push_back(tp.Pose(r, 1));
   }
-  if (sim->frame_times.empty()) throw IoError(trajectory_path, "no frames");
+  if (frame_times.empty()) throw IoError(trajectory_path, "no frames");
   const FileParser bp(body_path);
   for (const Record& r : bp.records()) {
     bp.ExpectFields(r, 11, "body state row (t tx ty tz qx qy qz qw vx vy vz)");
-    const std::size_t i = sim->T_w_b_gt.size();
-    if (i >= sim->frame_times.size()) bp.Fail(r, "more rows than trajectory.txt has frames");
-    if (bp.Double(r, 0) != sim->frame_times[i]) {
+    const std::size_t i = gt.T_w_b.size();
+    if (i >= frame_times.size()) bp.Fail(r, "more rows than trajectory.txt has frames");
+    if (bp.Double(r, 0) != frame_times[i]) {
       bp.Fail(r, "time differs from trajectory.txt row " + std::to_string(i + 1));
     }
-    sim->T_w_b_gt.push_back(bp.Pose(r, 1));
-    sim->v_w_gt.push_back(bp.Vec3(r, 8));
+    gt.T_w_b.push_back(bp.Pose(r, 1));
+    gt.v_w.push_back(bp.Vec3(r, 8));
   }
-  if (sim->T_w_b_gt.size() != sim->frame_times.size()) {
-    throw IoError(body_path, "has " + std::to_string(sim->T_w_b_gt.size()) +
-                                 " rows, trajectory.txt has " +
-                                 std::to_string(sim->frame_times.size()));
+  if (gt.T_w_b.size() != frame_times.size()) {
+    throw IoError(body_path, "has " + std::to_string(gt.T_w_b.size()) +
+                                 " rows, trajectory.txt has " + std::to_string(frame_times.size()));
   }
 }
 
-void ReadImu(const std::string& path, sim::CameraSimulation* sim) {
+void ReadImu(const std::string& path, std::vector<sensor::ImuSample>* imu) {
   const FileParser p(path);
   for (const Record& r : p.records()) {
     p.ExpectFields(r, 13, "imu row (t gyro accel gyro_bias accel_bias)");
     sensor::ImuSample s;
     s.t = p.Double(r, 0);
-    if (!sim->imu.empty() && !(s.t > sim->imu.back().t)) p.Fail(r, "imu times must increase");
+    if (!imu->empty() && !(s.t > imu->back().t)) p.Fail(r, "imu times must increase");
     s.gyro = p.Vec3(r, 1);
     s.accel = p.Vec3(r, 4);
     s.gyro_bias = p.Vec3(r, 7);
     s.accel_bias = p.Vec3(r, 10);
-    sim->imu.push_back(s);
+    imu->push_back(s);
   }
 }
 
 void ReadObservations(const std::string& points_path, const std::string& segments_path,
-                      sim::CameraSimulation* sim) {
-  const long long last_frame = static_cast<long long>(sim->frame_times.size()) - 1;
+                      sensor::CameraImuSequence* sequence) {
+  const long long last_frame = static_cast<long long>(sequence->frame_times.size()) - 1;
+  const sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
+  std::vector<sensor::PointObservation>& points = sequence->points;
+  std::vector<sensor::SegmentObservation>& segments = sequence->segments;
   const FileParser pp(points_path);
   for (const Record& r : pp.records()) {
     pp.ExpectFields(r, 4, "point observation (frame point_id u v)");
     sensor::PointObservation o;
     o.frame = static_cast<int>(pp.Int(r, 0, 0, last_frame));
-    o.point_id =
-        static_cast<int>(pp.Int(r, 1, -1, static_cast<long long>(sim->scene.points_w.size()) - 1));
+    o.point_id = static_cast<int>(pp.Int(r, 1, -1, static_cast<long long>(gt.points_w.size()) - 1));
     o.uv = Vector2d(pp.Double(r, 2), pp.Double(r, 3));
-    if (!sim->points.empty() && o.frame < sim->points.back().frame) {
+    if (!points.empty() && o.frame < points.back().frame) {
       pp.Fail(r, "observations must be sorted by frame");
     }
-    sim->points.push_back(o);
-    ++(o.point_id < 0 ? sim->stats.num_point_outliers : sim->stats.num_point_inliers);
+    points.push_back(o);
   }
   const FileParser sp(segments_path);
   for (const Record& r : sp.records()) {
     sp.ExpectFields(r, 6, "segment observation (frame line_id su sv eu ev)");
     sensor::SegmentObservation o;
     o.frame = static_cast<int>(sp.Int(r, 0, 0, last_frame));
-    o.line_id = static_cast<int>(
-        sp.Int(r, 1, -1, static_cast<long long>(sim->scene.segments_w.size()) - 1));
+    o.line_id =
+        static_cast<int>(sp.Int(r, 1, -1, static_cast<long long>(gt.segments_w.size()) - 1));
     o.s_px = Vector2d(sp.Double(r, 2), sp.Double(r, 3));
     o.e_px = Vector2d(sp.Double(r, 4), sp.Double(r, 5));
-    if (!sim->segments.empty() && o.frame < sim->segments.back().frame) {
+    if (!segments.empty() && o.frame < segments.back().frame) {
       sp.Fail(r, "observations must be sorted by frame");
     }
-    sim->segments.push_back(o);
-    ++(o.line_id < 0 ? sim->stats.num_segment_outliers : sim->stats.num_segment_inliers);
+    segments.push_back(o);
   }
 }
 
 }  // namespace
 
-const std::vector<std::string>& CameraSimulationFileNames() {
+const std::vector<std::string>& CameraImuSequenceFileNames() {
   static const std::vector<std::string> names = {"scene.txt",       "rig.txt", "trajectory.txt",
                                                  "body_states.txt", "imu.txt", "points.txt",
                                                  "segments.txt"};
   return names;
 }
 
-void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& sim) {
+void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSequence& sequence) {
+  if (!sequence.ground_truth) {
+    throw IoError(dir, "the format needs the ground truth (scene, trajectories); none given");
+  }
+  const sensor::CameraImuGroundTruth& gt = *sequence.ground_truth;
+  const std::size_t n = sequence.frame_times.size();
+  if (gt.T_w_c.size() != n || gt.T_w_b.size() != n || gt.v_w.size() != n) {
+    throw IoError(dir,
+                  "inconsistent sequence: frame_times and the ground truth T_w_c, T_w_b and v_w "
+                  "differ in size");
+  }
+  if (gt.point_plane_ids.size() != gt.points_w.size()) {
+    throw IoError(dir, "inconsistent sequence: point_plane_ids and points_w differ in size");
+  }
+  if (gt.scene_kind.empty() || gt.scene_kind.find_first_of(" \t\n\r#") != std::string::npos) {
+    throw IoError(dir, "the scene kind must be one word: '" + gt.scene_kind + "'");
+  }
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw IoError(dir, "cannot create the folder: " + ec.message());
-  const std::size_t n = sim.frame_times.size();
-  if (sim.T_w_c_gt.size() != n || sim.T_w_b_gt.size() != n || sim.v_w_gt.size() != n) {
-    throw IoError(dir,
-                  "inconsistent simulation: frame_times, T_w_c_gt, T_w_b_gt and v_w_gt "
-                  "differ in size");
-  }
-  if (sim.scene.point_plane_ids.size() != sim.scene.points_w.size()) {
-    throw IoError(dir, "inconsistent simulation: point_plane_ids and points_w differ in size");
-  }
 
-  // rig.txt first: its header marks the folder as a simulation (IsSafeToWriteCameraSimulation).
+  // rig.txt first: its header marks the folder as a simulation (IsSafeToWriteCameraImuSequence).
   const std::string header = std::string(kHeader) + " (docs/sim-format.md), format 1\n";
   {
     Writer w(Join(dir, "rig.txt"));
-    const sensor::CameraRig& rig = sim.rig;
-    const sim::ImuOptions& imu = sim.imu_options;
-    const sim::ObservationOptions& obs = sim.obs_options;
+    const sensor::CameraRig& rig = sequence.rig;
+    const sensor::ImuModel& imu = sequence.imu_model;
+    const sensor::ObservationModel& obs = sequence.observation_model;
     w.Text(header).Text("# camera rig, IMU and observation noise models\n");
     w.Text("image").Int(rig.width).Int(rig.height).EndLine();
     w.Text("intrinsics").Num(rig.K.fx).Num(rig.K.fy).Num(rig.K.cx).Num(rig.K.cy).EndLine();
@@ -442,24 +447,26 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
         .Num(imu.gyro_bias_random_walk)
         .Num(imu.accel_bias_random_walk)
         .EndLine();
-    w.Text("imu_initial_bias").Vec(imu.initial_gyro_bias).Vec(imu.initial_accel_bias).EndLine();
-    w.Text("gravity").Vec(imu.gravity_w).EndLine();
+    w.Text("imu_initial_bias").Vec(gt.initial_gyro_bias).Vec(gt.initial_accel_bias).EndLine();
+    w.Text("gravity").Vec(sequence.gravity_w).EndLine();
     w.Text("pixel_sigma").Num(obs.pixel_sigma).EndLine();
     w.Text("outlier_ratio").Num(obs.outlier_ratio).EndLine();
     w.Text("min_segment_px").Num(obs.min_segment_px).EndLine();
     w.Text("depth_range").Num(obs.min_depth).Num(obs.max_depth).EndLine();
     w.Text("observe").Int(obs.observe_points).Int(obs.observe_segments).EndLine();
-    w.Text("counts").Int(static_cast<long long>(n)).Int(static_cast<long long>(sim.imu.size()));
-    w.Int(static_cast<long long>(sim.points.size()));
-    w.Int(static_cast<long long>(sim.segments.size())).EndLine();
+    w.Text("counts")
+        .Int(static_cast<long long>(n))
+        .Int(static_cast<long long>(sequence.imu.size()));
+    w.Int(static_cast<long long>(sequence.points.size()));
+    w.Int(static_cast<long long>(sequence.segments.size())).EndLine();
     w.Commit();
   }
   {
     Writer w(Join(dir, "scene.txt"));
-    const sim::Scene& s = sim.scene;
+    const sensor::CameraImuGroundTruth& s = gt;
     w.Text(header).Text("# kind K | free_space min max | plane id mx my mz e | ");
     w.Text("point id x y z plane_id | segment id ax ay az bx by bz\n");
-    w.Text("kind " + sim::SceneKindName(s.kind)).EndLine();
+    w.Text("kind " + s.scene_kind).EndLine();
     w.Text("counts").Int(static_cast<long long>(s.planes_w.size()));
     w.Int(static_cast<long long>(s.points_w.size()));
     w.Int(static_cast<long long>(s.segments_w.size())).EndLine();
@@ -481,7 +488,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
     Writer w(Join(dir, "trajectory.txt"));
     w.Text(header).Text("# T_w_c per frame (TUM): t tx ty tz qx qy qz qw\n");
     for (std::size_t i = 0; i < n; ++i) {
-      w.Num(sim.frame_times[i]).Pose(sim.T_w_c_gt[i]).EndLine();
+      w.Num(sequence.frame_times[i]).Pose(gt.T_w_c[i]).EndLine();
     }
     w.Commit();
   }
@@ -489,14 +496,14 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
     Writer w(Join(dir, "body_states.txt"));
     w.Text(header).Text("# T_w_b and v_w per frame: t tx ty tz qx qy qz qw vx vy vz\n");
     for (std::size_t i = 0; i < n; ++i) {
-      w.Num(sim.frame_times[i]).Pose(sim.T_w_b_gt[i]).Vec(sim.v_w_gt[i]).EndLine();
+      w.Num(sequence.frame_times[i]).Pose(gt.T_w_b[i]).Vec(gt.v_w[i]).EndLine();
     }
     w.Commit();
   }
   {
     Writer w(Join(dir, "imu.txt"));
     w.Text(header).Text("# t gx gy gz ax ay az bgx bgy bgz bax bay baz (biases: ground truth)\n");
-    for (const sensor::ImuSample& s : sim.imu) {
+    for (const sensor::ImuSample& s : sequence.imu) {
       w.Num(s.t).Vec(s.gyro).Vec(s.accel).Vec(s.gyro_bias).Vec(s.accel_bias).EndLine();
     }
     w.Commit();
@@ -504,7 +511,7 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   {
     Writer w(Join(dir, "points.txt"));
     w.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
-    for (const sensor::PointObservation& o : sim.points) {
+    for (const sensor::PointObservation& o : sequence.points) {
       w.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
     }
     w.Commit();
@@ -512,29 +519,30 @@ void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& 
   {
     Writer w(Join(dir, "segments.txt"));
     w.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
-    for (const sensor::SegmentObservation& o : sim.segments) {
+    for (const sensor::SegmentObservation& o : sequence.segments) {
       w.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
     }
     w.Commit();
   }
 }
 
-sim::CameraSimulation ReadCameraSimulation(const std::string& dir) {
-  sim::CameraSimulation sim;
+sensor::CameraImuSequence ReadCameraImuSequence(const std::string& dir) {
+  sensor::CameraImuSequence sequence;
+  sequence.ground_truth.emplace();
   Counts counts;
-  ReadRig(Join(dir, "rig.txt"), &sim, &counts);
-  ReadScene(Join(dir, "scene.txt"), &sim.scene);
-  ReadFrames(Join(dir, "trajectory.txt"), Join(dir, "body_states.txt"), &sim);
-  CheckCount(Join(dir, "trajectory.txt"), sim.frame_times.size(), counts.frames);
-  ReadImu(Join(dir, "imu.txt"), &sim);
-  CheckCount(Join(dir, "imu.txt"), sim.imu.size(), counts.imu);
-  ReadObservations(Join(dir, "points.txt"), Join(dir, "segments.txt"), &sim);
-  CheckCount(Join(dir, "points.txt"), sim.points.size(), counts.points);
-  CheckCount(Join(dir, "segments.txt"), sim.segments.size(), counts.segments);
-  return sim;
+  ReadRig(Join(dir, "rig.txt"), &sequence, &counts);
+  ReadScene(Join(dir, "scene.txt"), &*sequence.ground_truth);
+  ReadFrames(Join(dir, "trajectory.txt"), Join(dir, "body_states.txt"), &sequence);
+  CheckCount(Join(dir, "trajectory.txt"), sequence.frame_times.size(), counts.frames);
+  ReadImu(Join(dir, "imu.txt"), &sequence.imu);
+  CheckCount(Join(dir, "imu.txt"), sequence.imu.size(), counts.imu);
+  ReadObservations(Join(dir, "points.txt"), Join(dir, "segments.txt"), &sequence);
+  CheckCount(Join(dir, "points.txt"), sequence.points.size(), counts.points);
+  CheckCount(Join(dir, "segments.txt"), sequence.segments.size(), counts.segments);
+  return sequence;
 }
 
-bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why) {
+bool IsSafeToWriteCameraImuSequence(const std::string& dir, std::string* why) {
   auto refuse = [why](const std::string& reason) {
     if (why) *why = reason;
     return false;
@@ -542,7 +550,7 @@ bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) return true;
   if (!fs::is_directory(dir, ec)) return refuse(dir + " exists and is not a folder");
-  const std::vector<std::string>& names = CameraSimulationFileNames();
+  const std::vector<std::string>& names = CameraImuSequenceFileNames();
   const std::set<std::string> known(names.begin(), names.end());
   bool any = false;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {

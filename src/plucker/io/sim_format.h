@@ -1,5 +1,7 @@
-// The camera simulation folder format (docs/sim-format.md): plain text, one record a line,
-// '#' comments, numbers written with %.17g so that every double reads back bit-exactly.
+// The camera + IMU sequence folder format (docs/sim-format.md), read into and written from
+// sensor::CameraImuSequence (the simulator's output: sim::ToCameraImuSequence). Plain text, one
+// record a line, '#' comments, numbers written with %.17g so that every double reads back
+// bit-exactly.
 //   scene.txt          kind, free space, planes, points (with their plane), segments
 //   rig.txt            image size, intrinsics, T_b_c, IMU and observation noise models
 //   trajectory.txt     TUM rows `t tx ty tz qx qy qz qw` of T_w_c (one per frame)
@@ -15,24 +17,26 @@
 #include <vector>
 
 #include "plucker/io/io_error.h"
-#include "plucker/sim/camera_observations.h"
+#include "plucker/sensor/camera_imu_sequence.h"
 
 namespace plucker {
 namespace io {
 
 // The file names of the format, in writing order.
-const std::vector<std::string>& CameraSimulationFileNames();
+const std::vector<std::string>& CameraImuSequenceFileNames();
 
-// Writes the folder (which must exist) with io::WriteFileAtomically. Throws IoError.
-void WriteCameraSimulation(const std::string& dir, const sim::CameraSimulation& simulation);
+// Writes the folder (created if needed) with io::WriteFileAtomically. The format holds the ground
+// truth: throws IoError without it, for inconsistent sizes and non-finite values.
+void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSequence& sequence);
 
-// Reads and validates a folder written by WriteCameraSimulation. Throws IoError.
-sim::CameraSimulation ReadCameraSimulation(const std::string& dir);
+// Reads and validates a folder written by WriteCameraImuSequence (ground truth included). Throws
+// IoError.
+sensor::CameraImuSequence ReadCameraImuSequence(const std::string& dir);
 
 // True when `dir` does not exist, is an empty folder, or holds only files of this format
 // (a previous simulation, whose rig.txt starts with the format's header). Otherwise false, with
 // the reason (e.g. the first foreign file) in *why. Never modifies anything.
-bool IsSafeToWriteCameraSimulation(const std::string& dir, std::string* why = nullptr);
+bool IsSafeToWriteCameraImuSequence(const std::string& dir, std::string* why = nullptr);
 
 }  // namespace io
 }  // namespace plucker

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "plucker/sim/camera_observations.h"
+
 namespace plucker {
 namespace io {
 namespace {
@@ -40,14 +42,21 @@ std::string Line(const fs::path& path, int line) {
   return l;
 }
 
-sim::CameraSimulation SmallSimulation() {
+sensor::CameraImuSequence SmallSimulation() {
   sim::CameraSimulationOptions o;
   o.num_frames = 12;
   o.obs.outlier_ratio = 0.1;
-  o.imu.rate_hz = 100.0;
+  o.imu.model.rate_hz = 100.0;
   o.imu.initial_gyro_bias = Eigen::Vector3d(1e-3, -2e-3, 3e-4);
   o.seed = 77;
-  return sim::SimulateCamera(o);
+  return sim::ToCameraImuSequence(sim::SimulateCamera(o));
+}
+
+int CountOutliers(const sensor::CameraImuSequence& s) {
+  int n = 0;
+  for (const sensor::PointObservation& o : s.points) n += o.point_id < 0;
+  for (const sensor::SegmentObservation& o : s.segments) n += o.line_id < 0;
+  return n;
 }
 
 class SimFormatTest : public ::testing::Test {
@@ -62,14 +71,14 @@ class SimFormatTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(root_); }
 
-  // Writes a valid simulation, applies `mutate` to it and expects ReadCameraSimulation to throw
+  // Writes a valid simulation, applies `mutate` to it and expects ReadCameraImuSequence to throw
   // an IoError whose message contains `expected` (the file name and line).
   template <typename Mutate>
   void ExpectReadError(Mutate mutate, const std::string& expected) {
-    WriteCameraSimulation(dir_, SmallSimulation());
+    WriteCameraImuSequence(dir_, SmallSimulation());
     mutate(fs::path(dir_));
     try {
-      ReadCameraSimulation(dir_);
+      ReadCameraImuSequence(dir_);
       ADD_FAILURE() << "no error, expected one containing '" << expected << "'";
     } catch (const IoError& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
@@ -81,50 +90,63 @@ class SimFormatTest : public ::testing::Test {
 };
 
 TEST_F(SimFormatTest, RoundTripIsExact) {
-  const sim::CameraSimulation a = SmallSimulation();
+  const sensor::CameraImuSequence a = SmallSimulation();
   ASSERT_FALSE(a.imu.empty());
-  ASSERT_GT(a.stats.num_point_outliers, 0);
-  WriteCameraSimulation(dir_, a);
-  const sim::CameraSimulation b = ReadCameraSimulation(dir_);
+  ASSERT_GT(CountOutliers(a), 0);
+  WriteCameraImuSequence(dir_, a);
+  const sensor::CameraImuSequence b = ReadCameraImuSequence(dir_);
+  ASSERT_TRUE(a.ground_truth && b.ground_truth);
+  const sensor::CameraImuGroundTruth& ga = *a.ground_truth;
+  const sensor::CameraImuGroundTruth& gb = *b.ground_truth;
 
-  EXPECT_EQ(a.scene.kind, b.scene.kind);
-  EXPECT_EQ(a.scene.free_space_w.min(), b.scene.free_space_w.min());
-  EXPECT_EQ(a.scene.free_space_w.max(), b.scene.free_space_w.max());
-  ASSERT_EQ(a.scene.points_w.size(), b.scene.points_w.size());
-  for (std::size_t i = 0; i < a.scene.points_w.size(); ++i) {
-    EXPECT_EQ(a.scene.points_w[i], b.scene.points_w[i]);
-    EXPECT_EQ(a.scene.point_plane_ids[i], b.scene.point_plane_ids[i]);
+  EXPECT_EQ(ga.scene_kind, "room");
+  EXPECT_EQ(ga.scene_kind, gb.scene_kind);
+  EXPECT_EQ(ga.free_space_w.min(), gb.free_space_w.min());
+  EXPECT_EQ(ga.free_space_w.max(), gb.free_space_w.max());
+  ASSERT_EQ(ga.points_w.size(), gb.points_w.size());
+  for (std::size_t i = 0; i < ga.points_w.size(); ++i) {
+    EXPECT_EQ(ga.points_w[i], gb.points_w[i]);
+    EXPECT_EQ(ga.point_plane_ids[i], gb.point_plane_ids[i]);
   }
-  ASSERT_EQ(a.scene.segments_w.size(), b.scene.segments_w.size());
-  for (std::size_t i = 0; i < a.scene.segments_w.size(); ++i) {
-    EXPECT_EQ(a.scene.segments_w[i].a_w, b.scene.segments_w[i].a_w);
-    EXPECT_EQ(a.scene.segments_w[i].b_w, b.scene.segments_w[i].b_w);
+  ASSERT_EQ(ga.segments_w.size(), gb.segments_w.size());
+  for (std::size_t i = 0; i < ga.segments_w.size(); ++i) {
+    EXPECT_EQ(ga.segments_w[i].a_w, gb.segments_w[i].a_w);
+    EXPECT_EQ(ga.segments_w[i].b_w, gb.segments_w[i].b_w);
   }
-  ASSERT_EQ(a.scene.planes_w.size(), b.scene.planes_w.size());
-  for (std::size_t i = 0; i < a.scene.planes_w.size(); ++i) {
-    EXPECT_EQ(a.scene.planes_w[i], b.scene.planes_w[i]);
+  ASSERT_EQ(ga.planes_w.size(), gb.planes_w.size());
+  for (std::size_t i = 0; i < ga.planes_w.size(); ++i) {
+    EXPECT_EQ(ga.planes_w[i], gb.planes_w[i]);
   }
   EXPECT_EQ(a.rig.width, b.rig.width);
   EXPECT_EQ(a.rig.height, b.rig.height);
   EXPECT_EQ(a.rig.K.K(), b.rig.K.K());
   EXPECT_EQ(a.rig.T_b_c.rotation().coeffs(), b.rig.T_b_c.rotation().coeffs());
   EXPECT_EQ(a.rig.T_b_c.translation(), b.rig.T_b_c.translation());
-  EXPECT_EQ(a.imu_options.rate_hz, b.imu_options.rate_hz);
-  EXPECT_EQ(a.imu_options.gyro_noise_density, b.imu_options.gyro_noise_density);
-  EXPECT_EQ(a.imu_options.accel_bias_random_walk, b.imu_options.accel_bias_random_walk);
-  EXPECT_EQ(a.imu_options.initial_gyro_bias, b.imu_options.initial_gyro_bias);
-  EXPECT_EQ(a.imu_options.gravity_w, b.imu_options.gravity_w);
-  EXPECT_EQ(a.obs_options.pixel_sigma, b.obs_options.pixel_sigma);
-  EXPECT_EQ(a.obs_options.outlier_ratio, b.obs_options.outlier_ratio);
-  EXPECT_EQ(a.obs_options.max_depth, b.obs_options.max_depth);
+  EXPECT_EQ(a.imu_model.rate_hz, 100.0);
+  EXPECT_EQ(a.imu_model.rate_hz, b.imu_model.rate_hz);
+  EXPECT_EQ(a.imu_model.gyro_noise_density, b.imu_model.gyro_noise_density);
+  EXPECT_EQ(a.imu_model.accel_noise_density, b.imu_model.accel_noise_density);
+  EXPECT_EQ(a.imu_model.gyro_bias_random_walk, b.imu_model.gyro_bias_random_walk);
+  EXPECT_EQ(a.imu_model.accel_bias_random_walk, b.imu_model.accel_bias_random_walk);
+  EXPECT_EQ(ga.initial_gyro_bias, Eigen::Vector3d(1e-3, -2e-3, 3e-4));
+  EXPECT_EQ(ga.initial_gyro_bias, gb.initial_gyro_bias);
+  EXPECT_EQ(ga.initial_accel_bias, gb.initial_accel_bias);
+  EXPECT_EQ(a.gravity_w, b.gravity_w);
+  EXPECT_EQ(a.observation_model.pixel_sigma, b.observation_model.pixel_sigma);
+  EXPECT_EQ(a.observation_model.outlier_ratio, b.observation_model.outlier_ratio);
+  EXPECT_EQ(a.observation_model.min_segment_px, b.observation_model.min_segment_px);
+  EXPECT_EQ(a.observation_model.min_depth, b.observation_model.min_depth);
+  EXPECT_EQ(a.observation_model.max_depth, b.observation_model.max_depth);
+  EXPECT_EQ(a.observation_model.observe_points, b.observation_model.observe_points);
+  EXPECT_EQ(a.observation_model.observe_segments, b.observation_model.observe_segments);
   EXPECT_EQ(a.frame_times, b.frame_times);
-  ASSERT_EQ(a.T_w_c_gt.size(), b.T_w_c_gt.size());
-  for (std::size_t i = 0; i < a.T_w_c_gt.size(); ++i) {
-    EXPECT_EQ(a.T_w_c_gt[i].rotation().coeffs(), b.T_w_c_gt[i].rotation().coeffs());
-    EXPECT_EQ(a.T_w_c_gt[i].translation(), b.T_w_c_gt[i].translation());
-    EXPECT_EQ(a.T_w_b_gt[i].rotation().coeffs(), b.T_w_b_gt[i].rotation().coeffs());
-    EXPECT_EQ(a.T_w_b_gt[i].translation(), b.T_w_b_gt[i].translation());
-    EXPECT_EQ(a.v_w_gt[i], b.v_w_gt[i]);
+  ASSERT_EQ(ga.T_w_c.size(), gb.T_w_c.size());
+  for (std::size_t i = 0; i < ga.T_w_c.size(); ++i) {
+    EXPECT_EQ(ga.T_w_c[i].rotation().coeffs(), gb.T_w_c[i].rotation().coeffs());
+    EXPECT_EQ(ga.T_w_c[i].translation(), gb.T_w_c[i].translation());
+    EXPECT_EQ(ga.T_w_b[i].rotation().coeffs(), gb.T_w_b[i].rotation().coeffs());
+    EXPECT_EQ(ga.T_w_b[i].translation(), gb.T_w_b[i].translation());
+    EXPECT_EQ(ga.v_w[i], gb.v_w[i]);
   }
   ASSERT_EQ(a.imu.size(), b.imu.size());
   for (std::size_t k = 0; k < a.imu.size(); ++k) {
@@ -147,21 +169,18 @@ TEST_F(SimFormatTest, RoundTripIsExact) {
     EXPECT_EQ(a.segments[i].s_px, b.segments[i].s_px);
     EXPECT_EQ(a.segments[i].e_px, b.segments[i].e_px);
   }
-  EXPECT_EQ(a.stats.num_point_inliers, b.stats.num_point_inliers);
-  EXPECT_EQ(a.stats.num_point_outliers, b.stats.num_point_outliers);
-  EXPECT_EQ(a.stats.num_segment_inliers, b.stats.num_segment_inliers);
-  EXPECT_EQ(a.stats.num_segment_outliers, b.stats.num_segment_outliers);
+  EXPECT_EQ(CountOutliers(a), CountOutliers(b));
 
   // Writing what was read gives byte-identical files.
   const std::string dir2 = (root_ / "again").string();
-  WriteCameraSimulation(dir2, b);
-  for (const std::string& name : CameraSimulationFileNames()) {
+  WriteCameraImuSequence(dir2, b);
+  for (const std::string& name : CameraImuSequenceFileNames()) {
     EXPECT_EQ(ReadText(fs::path(dir_) / name), ReadText(fs::path(dir2) / name)) << name;
   }
 }
 
 TEST_F(SimFormatTest, TrajectoryIsPlainTum) {
-  WriteCameraSimulation(dir_, SmallSimulation());
+  WriteCameraImuSequence(dir_, SmallSimulation());
   std::istringstream first_row(Line(fs::path(dir_) / "trajectory.txt", 3));
   int fields = 0;
   for (std::string f; first_row >> f;) ++fields;
@@ -236,33 +255,39 @@ TEST_F(SimFormatTest, MissingFile) {
 }
 
 TEST_F(SimFormatTest, WriterRefusesNonFiniteValues) {
-  sim::CameraSimulation s = SmallSimulation();
-  s.scene.points_w[0].x() = std::nan("");
-  EXPECT_THROW(WriteCameraSimulation(dir_, s), IoError);
+  sensor::CameraImuSequence s = SmallSimulation();
+  s.ground_truth->points_w[0].x() = std::nan("");
+  EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
   s = SmallSimulation();
-  s.T_w_b_gt.pop_back();
-  EXPECT_THROW(WriteCameraSimulation(dir_, s), IoError);
+  s.ground_truth->T_w_b.pop_back();
+  EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
+  s = SmallSimulation();
+  s.ground_truth->scene_kind = "two words";
+  EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
+  s = SmallSimulation();
+  s.ground_truth.reset();  // the format holds the ground truth
+  EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
 }
 
 TEST_F(SimFormatTest, SafeToWriteOnlyIntoEmptyOrPreviousOutput) {
   std::string why;
-  EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why));  // does not exist
+  EXPECT_TRUE(IsSafeToWriteCameraImuSequence(dir_, &why));  // does not exist
   fs::create_directories(dir_);
-  EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why));  // empty
-  WriteCameraSimulation(dir_, SmallSimulation());
-  EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why)) << why;  // a previous simulation
-  WriteText(fs::path(dir_) / "imu.txt.tmp-plucker", "partial");   // an interrupted write
-  EXPECT_TRUE(IsSafeToWriteCameraSimulation(dir_, &why)) << why;
+  EXPECT_TRUE(IsSafeToWriteCameraImuSequence(dir_, &why));  // empty
+  WriteCameraImuSequence(dir_, SmallSimulation());
+  EXPECT_TRUE(IsSafeToWriteCameraImuSequence(dir_, &why)) << why;  // a previous simulation
+  WriteText(fs::path(dir_) / "imu.txt.tmp-plucker", "partial");    // an interrupted write
+  EXPECT_TRUE(IsSafeToWriteCameraImuSequence(dir_, &why)) << why;
   WriteText(fs::path(dir_) / "notes.md", "mine");
-  EXPECT_FALSE(IsSafeToWriteCameraSimulation(dir_, &why));
+  EXPECT_FALSE(IsSafeToWriteCameraImuSequence(dir_, &why));
   EXPECT_NE(why.find("notes.md"), std::string::npos) << why;
 
   const fs::path other = root_ / "user";
   fs::create_directories(other);
   WriteText(other / "points.txt", "user data");  // our file name, but no simulation header
-  EXPECT_FALSE(IsSafeToWriteCameraSimulation(other.string(), &why));
+  EXPECT_FALSE(IsSafeToWriteCameraImuSequence(other.string(), &why));
   WriteText(root_ / "file", "x");
-  EXPECT_FALSE(IsSafeToWriteCameraSimulation((root_ / "file").string(), &why));
+  EXPECT_FALSE(IsSafeToWriteCameraImuSequence((root_ / "file").string(), &why));
 }
 
 }  // namespace

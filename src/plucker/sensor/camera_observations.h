@@ -20,5 +20,17 @@ struct SegmentObservation {
   Eigen::Vector2d e_px = Eigen::Vector2d::Zero();  // end point
 };
 
+// How the observations of a sequence were made: their pixel noise, the share of outliers, and
+// what was observed (the simulator draws them so; a front end states its own).
+struct ObservationModel {
+  double pixel_sigma = 1.0;      // px, noise on every point / endpoint coordinate
+  double outlier_ratio = 0.0;    // in [0, 0.9]: outliers / (inliers + outliers)
+  double min_segment_px = 20.0;  // minimum (noise-free) segment length
+  double min_depth = 0.1;        // m, features nearer than this are not observed
+  double max_depth = 40.0;       // m, nor those farther than this
+  bool observe_points = true;
+  bool observe_segments = true;
+};
+
 }  // namespace sensor
 }  // namespace plucker

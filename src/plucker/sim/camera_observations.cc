@@ -269,5 +269,31 @@ CameraSimulation SimulateCamera(const CameraSimulationOptions& options) {
   return sim;
 }
 
+sensor::CameraImuSequence ToCameraImuSequence(const CameraSimulation& simulation) {
+  sensor::CameraImuSequence out;
+  out.rig = simulation.rig;
+  out.imu_model = simulation.imu_options.model;
+  out.observation_model = simulation.obs_options;
+  out.gravity_w = simulation.imu_options.gravity_w;
+  out.frame_times = simulation.frame_times;
+  out.imu = simulation.imu;
+  out.points = simulation.points;
+  out.segments = simulation.segments;
+  sensor::CameraImuGroundTruth& gt = out.ground_truth.emplace();
+  gt.T_w_c = simulation.T_w_c_gt;
+  gt.T_w_b = simulation.T_w_b_gt;
+  gt.v_w = simulation.v_w_gt;
+  gt.initial_gyro_bias = simulation.imu_options.initial_gyro_bias;
+  gt.initial_accel_bias = simulation.imu_options.initial_accel_bias;
+  const Scene& scene = simulation.scene;
+  gt.scene_kind = SceneKindName(scene.kind);
+  gt.points_w = scene.points_w;
+  gt.point_plane_ids = scene.point_plane_ids;
+  gt.segments_w = scene.segments_w;
+  gt.planes_w = scene.planes_w;
+  gt.free_space_w = scene.free_space_w;
+  return out;
+}
+
 }  // namespace sim
 }  // namespace plucker

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/camera_imu_sequence.h"
 #include "plucker/sensor/camera_observations.h"
 #include "plucker/sensor/camera_rig.h"
 #include "plucker/sim/imu.h"
@@ -45,15 +46,8 @@ sensor::CameraRig DefaultRig();
 // Observations (sensor/camera_observations.h): point_id indexes Scene::points_w, line_id
 // Scene::segments_w; -1 is an outlier.
 
-struct ObservationOptions {
-  double pixel_sigma = 1.0;      // px, noise on every point / endpoint coordinate
-  double outlier_ratio = 0.0;    // in [0, 0.9]: outliers / (inliers + outliers)
-  double min_segment_px = 20.0;  // minimum clipped (noise-free) segment length
-  double min_depth = 0.1;        // m, near plane
-  double max_depth = 40.0;       // m, far plane
-  bool observe_points = true;
-  bool observe_segments = true;
-};
+// The observation settings are the sensor-level description the sequence files store.
+using ObservationOptions = sensor::ObservationModel;
 
 // A world segment clipped to the view frustum of a camera at T_w_c.
 struct ClippedSegment {
@@ -119,6 +113,9 @@ struct CameraSimulationOptions {
 // Scene, trajectory, IMU and observations, each from its own stream derived from options.seed.
 // Frame i is at t_i = i / frame_rate_hz. Throws std::invalid_argument for invalid options.
 CameraSimulation SimulateCamera(const CameraSimulationOptions& options);
+
+// The simulation as a recorded sequence with its ground truth (what io/sim_format.h writes).
+sensor::CameraImuSequence ToCameraImuSequence(const CameraSimulation& simulation);
 
 }  // namespace sim
 }  // namespace plucker

@@ -19,13 +19,13 @@ void CheckDensity(double v, const char* name) {
 
 std::vector<sensor::ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
                                            std::uint64_t seed) {
-  if (!std::isfinite(options.rate_hz) || options.rate_hz <= 0.0) {
+  if (!std::isfinite(options.model.rate_hz) || options.model.rate_hz <= 0.0) {
     throw std::invalid_argument("SimulateImu: rate_hz must be finite and positive");
   }
-  CheckDensity(options.gyro_noise_density, "gyro_noise_density");
-  CheckDensity(options.accel_noise_density, "accel_noise_density");
-  CheckDensity(options.gyro_bias_random_walk, "gyro_bias_random_walk");
-  CheckDensity(options.accel_bias_random_walk, "accel_bias_random_walk");
+  CheckDensity(options.model.gyro_noise_density, "gyro_noise_density");
+  CheckDensity(options.model.accel_noise_density, "accel_noise_density");
+  CheckDensity(options.model.gyro_bias_random_walk, "gyro_bias_random_walk");
+  CheckDensity(options.model.accel_bias_random_walk, "accel_bias_random_walk");
   if (!options.initial_gyro_bias.allFinite() || !options.initial_accel_bias.allFinite() ||
       !options.gravity_w.allFinite()) {
     throw std::invalid_argument("SimulateImu: non-finite bias or gravity");
@@ -34,16 +34,16 @@ std::vector<sensor::ImuSample> SimulateImu(const Trajectory& trajectory, const I
   if (!std::isfinite(duration) || duration < 0.0) {
     throw std::invalid_argument("SimulateImu: invalid trajectory duration");
   }
-  const double dt = 1.0 / options.rate_hz;
-  const double count = std::ceil(duration * options.rate_hz - 1e-9);
+  const double dt = 1.0 / options.model.rate_hz;
+  const double count = std::ceil(duration * options.model.rate_hz - 1e-9);
   if (count > 1e8) throw std::invalid_argument("SimulateImu: more than 1e8 samples");
   const int n = static_cast<int>(count) + 1;
 
   // Discrete standard deviations from the continuous densities.
-  const double sigma_g = options.gyro_noise_density / std::sqrt(dt);
-  const double sigma_a = options.accel_noise_density / std::sqrt(dt);
-  const double sigma_bg = options.gyro_bias_random_walk * std::sqrt(dt);
-  const double sigma_ba = options.accel_bias_random_walk * std::sqrt(dt);
+  const double sigma_g = options.model.gyro_noise_density / std::sqrt(dt);
+  const double sigma_a = options.model.accel_noise_density / std::sqrt(dt);
+  const double sigma_bg = options.model.gyro_bias_random_walk * std::sqrt(dt);
+  const double sigma_ba = options.model.accel_bias_random_walk * std::sqrt(dt);
 
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);

@@ -17,19 +17,15 @@ namespace plucker {
 namespace sim {
 
 struct ImuOptions {
-  double rate_hz = 200.0;
-  double gyro_noise_density = 1.7e-4;      // rad / s / sqrt(Hz)
-  double accel_noise_density = 2.0e-3;     // m / s^2 / sqrt(Hz)
-  double gyro_bias_random_walk = 2.0e-5;   // rad / s^2 / sqrt(Hz)
-  double accel_bias_random_walk = 3.0e-3;  // m / s^3 / sqrt(Hz)
+  sensor::ImuModel model;  // rate, noise densities and bias random walks
   Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d gravity_w{0.0, 0.0, -9.81};
 };
 
-// Samples at t_k = k / rate_hz for k = 0 .. ceil(duration * rate_hz) (the last sample is at or
-// after the trajectory's end). Throws std::invalid_argument for a non-positive rate or negative
-// / non-finite densities.
+// Samples at t_k = k / rate_hz for k = 0 .. ceil(duration * rate_hz) (rate_hz of options.model)
+// (the last sample is at or after the trajectory's end). Throws std::invalid_argument for a
+// non-positive rate or negative / non-finite densities.
 std::vector<sensor::ImuSample> SimulateImu(const Trajectory& trajectory, const ImuOptions& options,
                                            std::uint64_t seed);
 

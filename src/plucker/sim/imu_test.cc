@@ -21,15 +21,15 @@ Trajectory TestTrajectory(SceneKind kind, double duration) {
 
 ImuOptions NoiseFree() {
   ImuOptions o;
-  o.gyro_noise_density = o.accel_noise_density = 0.0;
-  o.gyro_bias_random_walk = o.accel_bias_random_walk = 0.0;
+  o.model.gyro_noise_density = o.model.accel_noise_density = 0.0;
+  o.model.gyro_bias_random_walk = o.model.accel_bias_random_walk = 0.0;
   return o;
 }
 
 TEST(ImuTest, SampleTimesCoverTheTrajectory) {
   const Trajectory tr = TestTrajectory(SceneKind::kRoom, 2.0);
   ImuOptions o;
-  o.rate_hz = 100.0;
+  o.model.rate_hz = 100.0;
   const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 1);
   ASSERT_EQ(s.size(), 201u);
   EXPECT_EQ(s.front().t, 0.0);
@@ -44,7 +44,7 @@ TEST(ImuTest, NoiseFreeIntegrationReproducesTrajectory) {
     o.initial_gyro_bias = Eigen::Vector3d(0.01, -0.02, 0.005);
     o.initial_accel_bias = Eigen::Vector3d(0.1, 0.05, -0.2);
     const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 1);
-    const double dt = 1.0 / o.rate_hz;
+    const double dt = 1.0 / o.model.rate_hz;
     Eigen::Matrix3d R = tr.R_w_b(0.0);
     Eigen::Vector3d v = tr.velocity_w(0.0), p = tr.position_w(0.0);
     auto a_w = [&](const Eigen::Matrix3d& R_k, const sensor::ImuSample& x) {
@@ -75,15 +75,15 @@ TEST(ImuTest, NoiseFreeIntegrationReproducesTrajectory) {
 TEST(ImuTest, NoiseStatisticsMatchDensities) {
   const Trajectory tr = TestTrajectory(SceneKind::kCorridor, 50.0);
   ImuOptions o;
-  o.rate_hz = 200.0;
-  o.gyro_noise_density = 2e-3;
-  o.accel_noise_density = 3e-2;
-  o.gyro_bias_random_walk = 1e-3;
-  o.accel_bias_random_walk = 4e-2;
+  o.model.rate_hz = 200.0;
+  o.model.gyro_noise_density = 2e-3;
+  o.model.accel_noise_density = 3e-2;
+  o.model.gyro_bias_random_walk = 1e-3;
+  o.model.accel_bias_random_walk = 4e-2;
   const std::vector<sensor::ImuSample> s = SimulateImu(tr, o, 17);
   const std::vector<sensor::ImuSample> clean = SimulateImu(tr, NoiseFree(), 17);
   ASSERT_EQ(s.size(), clean.size());
-  const double dt = 1.0 / o.rate_hz;
+  const double dt = 1.0 / o.model.rate_hz;
   double sum_g = 0, sum_a = 0, sq_g = 0, sq_a = 0, sq_bg = 0, sq_ba = 0;
   long n = 0, m = 0;
   for (std::size_t k = 0; k < s.size(); ++k) {
@@ -100,14 +100,14 @@ TEST(ImuTest, NoiseStatisticsMatchDensities) {
       m += 3;
     }
   }
-  const double sigma_g = o.gyro_noise_density / std::sqrt(dt);
-  const double sigma_a = o.accel_noise_density / std::sqrt(dt);
+  const double sigma_g = o.model.gyro_noise_density / std::sqrt(dt);
+  const double sigma_a = o.model.accel_noise_density / std::sqrt(dt);
   EXPECT_NEAR(std::sqrt(sq_g / n) / sigma_g, 1.0, 0.03);
   EXPECT_NEAR(std::sqrt(sq_a / n) / sigma_a, 1.0, 0.03);
   EXPECT_NEAR(sum_g / n / sigma_g, 0.0, 0.03);
   EXPECT_NEAR(sum_a / n / sigma_a, 0.0, 0.03);
-  EXPECT_NEAR(std::sqrt(sq_bg / m) / (o.gyro_bias_random_walk * std::sqrt(dt)), 1.0, 0.03);
-  EXPECT_NEAR(std::sqrt(sq_ba / m) / (o.accel_bias_random_walk * std::sqrt(dt)), 1.0, 0.03);
+  EXPECT_NEAR(std::sqrt(sq_bg / m) / (o.model.gyro_bias_random_walk * std::sqrt(dt)), 1.0, 0.03);
+  EXPECT_NEAR(std::sqrt(sq_ba / m) / (o.model.accel_bias_random_walk * std::sqrt(dt)), 1.0, 0.03);
 }
 
 TEST(ImuTest, DeterministicGivenSeed) {
@@ -136,10 +136,10 @@ TEST(ImuTest, StaticBodyMeasuresGravity) {
 TEST(ImuTest, RejectsInvalidOptions) {
   const Trajectory tr = TestTrajectory(SceneKind::kRoom, 1.0);
   ImuOptions o;
-  o.rate_hz = 0.0;
+  o.model.rate_hz = 0.0;
   EXPECT_THROW(SimulateImu(tr, o, 1), std::invalid_argument);
   o = ImuOptions();
-  o.gyro_noise_density = -1.0;
+  o.model.gyro_noise_density = -1.0;
   EXPECT_THROW(SimulateImu(tr, o, 1), std::invalid_argument);
   o = ImuOptions();
   o.gravity_w.x() = std::nan("");

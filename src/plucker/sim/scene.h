@@ -13,13 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "plucker/geometry/line_segment.h"
+
 namespace plucker {
 namespace sim {
 
-struct LineSegment3 {
-  Eigen::Vector3d a_w = Eigen::Vector3d::Zero();  // world endpoints, a_w != b_w
-  Eigen::Vector3d b_w = Eigen::Vector3d::UnitX();
-};
+using plucker::LineSegment3;  // world endpoints a_w != b_w (geometry/line_segment.h)
 
 enum class SceneKind { kRoom, kCorridor, kFacades };
 
