@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The installed package is the library alone: installs the build tree into a scratch prefix and
 # fails if test or benchmark scaffolding got in (the verify and testing layers, random geometry,
-# factor benchmarks, synthetic problems, *_test_utils.h, the fuzzing helpers, test sources), or
+# factor benchmarks, synthetic problems, *_test_utils.h, the fuzzing helpers, test sources) or an
+# installed header including one of them (or io/sensor including sim), or
 # if the library itself is missing (so the check cannot pass on an empty install).
 #   tests/install_tree_test.sh BUILD_DIR
 set -uo pipefail
@@ -21,6 +22,13 @@ bad="$(find "$P" \( -path '*/plucker/verify*' -o -path '*/plucker/testing*' \
   -o -name 'cost_function_check.h' \) -print)"
 if [ -n "$bad" ]; then
   echo "FAIL scaffolding installed:"; echo "$bad" | sed 's/^/     /'; fail=1
+fi
+if grep -rnE '#include "plucker/(verify|testing)/' "$P/include"; then
+  echo "FAIL an installed header includes a scaffolding header"; fail=1
+fi
+if grep -rn '#include "plucker/sim/' "$P/include/plucker/io" "$P/include/plucker/sensor"; then
+  echo "FAIL an installed io or sensor header includes a sim header (io and sensor are below sim)"
+  fail=1
 fi
 if grep -rlE 'plucker::(verify|testing)|plucker_(verify|testing)' "$P"/lib*/cmake/plucker; then
   echo "FAIL the exported targets name a scaffolding target"; fail=1
