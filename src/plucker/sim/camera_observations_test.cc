@@ -284,6 +284,50 @@ TEST(CameraObservationTest, ImuCoversTheFrames) {
   EXPECT_EQ(sim.v_w_gt.size(), sim.frame_times.size());
 }
 
+// The recorded sequence (what io writes) carries every measurement, the noise models and the
+// ground truth of the simulation unchanged.
+TEST(CameraSimulationTest, ToCameraImuSequenceKeepsEverything) {
+  CameraSimulationOptions o = Options(SceneKind::kCorridor, 9);
+  o.num_frames = 8;
+  o.simulate_imu = true;
+  o.imu.model.gyro_noise_density = 3e-4;
+  o.imu.initial_accel_bias = Vector3d(0.1, -0.2, 0.05);
+  o.obs.outlier_ratio = 0.2;
+  const CameraSimulation sim = SimulateCamera(o);
+  const sensor::CameraImuSequence seq = ToCameraImuSequence(sim);
+  ASSERT_TRUE(seq.ground_truth.has_value());
+  const sensor::CameraImuGroundTruth& gt = *seq.ground_truth;
+  EXPECT_EQ(seq.imu_model.gyro_noise_density, 3e-4);
+  EXPECT_EQ(seq.imu_model.rate_hz, o.imu.model.rate_hz);
+  EXPECT_EQ(seq.observation_model.outlier_ratio, 0.2);
+  EXPECT_EQ(seq.gravity_w, o.imu.gravity_w);
+  EXPECT_EQ(gt.initial_accel_bias, o.imu.initial_accel_bias);
+  EXPECT_EQ(seq.frame_times, sim.frame_times);
+  ASSERT_EQ(gt.T_w_c.size(), 8u);
+  ASSERT_EQ(gt.T_w_b.size(), 8u);
+  ASSERT_EQ(gt.v_w.size(), 8u);
+  for (std::size_t i = 0; i < gt.T_w_c.size(); ++i) {
+    EXPECT_EQ(gt.T_w_c[i].Matrix(), sim.T_w_c_gt[i].Matrix());
+    EXPECT_EQ(gt.T_w_b[i].Matrix(), sim.T_w_b_gt[i].Matrix());
+    EXPECT_EQ(gt.v_w[i], sim.v_w_gt[i]);
+  }
+  ASSERT_FALSE(sim.imu.empty());
+  ASSERT_EQ(seq.imu.size(), sim.imu.size());
+  EXPECT_EQ(seq.imu.back().accel, sim.imu.back().accel);
+  ASSERT_FALSE(sim.points.empty());
+  ASSERT_EQ(seq.points.size(), sim.points.size());
+  ASSERT_EQ(seq.segments.size(), sim.segments.size());
+  EXPECT_EQ(seq.points.back().uv, sim.points.back().uv);
+  EXPECT_EQ(seq.segments.back().e_px, sim.segments.back().e_px);
+  EXPECT_EQ(gt.scene_kind, "corridor");
+  EXPECT_EQ(gt.points_w, sim.scene.points_w);
+  EXPECT_EQ(gt.point_plane_ids, sim.scene.point_plane_ids);
+  EXPECT_EQ(gt.planes_w, sim.scene.planes_w);
+  ASSERT_EQ(gt.segments_w.size(), sim.scene.segments_w.size());
+  EXPECT_EQ(gt.segments_w.back().b_w, sim.scene.segments_w.back().b_w);
+  EXPECT_EQ(gt.free_space_w.min(), sim.scene.free_space_w.min());
+}
+
 }  // namespace
 }  // namespace sim
 }  // namespace plucker
