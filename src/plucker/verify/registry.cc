@@ -20,6 +20,7 @@ std::vector<NamedJacobianCheck> FactorJacobianChecks() {
   std::vector<NamedJacobianCheck> all = LineFactorJacobianChecks();
   Append(&all, PointFactorJacobianChecks());
   Append(&all, LidarFactorJacobianChecks());
+  Append(&all, ImuFactorJacobianChecks());
   return all;
 }
 
