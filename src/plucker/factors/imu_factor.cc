@@ -23,7 +23,7 @@ bool Finite(const double* x, int n) {
 Matrix15d SqrtInformation(const ImuPreintegration& p) {
   Matrix15d covariance = Matrix15d::Zero();
   covariance.topLeftCorner<9, 9>() = p.Covariance();
-  const ImuNoise& n = p.Noise();
+  const sensor::ImuModel& n = p.Imu();
   covariance.block<3, 3>(9, 9).diagonal().setConstant(n.gyro_bias_random_walk *
                                                       n.gyro_bias_random_walk * p.Dt());
   covariance.block<3, 3>(12, 12).diagonal().setConstant(n.accel_bias_random_walk *

@@ -11,17 +11,18 @@ namespace {
 
 bool FinitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-}  // namespace
-
-bool ImuNoise::IsValid() const {
-  return FinitePositive(gyro_noise_density) && FinitePositive(accel_noise_density) &&
-         FinitePositive(gyro_bias_random_walk) && FinitePositive(accel_bias_random_walk) &&
+bool ValidNoise(const sensor::ImuModel& imu, double integration_sigma) {
+  return FinitePositive(imu.gyro_noise_density) && FinitePositive(imu.accel_noise_density) &&
+         FinitePositive(imu.gyro_bias_random_walk) && FinitePositive(imu.accel_bias_random_walk) &&
          FinitePositive(integration_sigma);
 }
 
-ImuPreintegration::ImuPreintegration(const ImuBias& bias_lin, const ImuNoise& noise)
-    : bias_lin_(bias_lin), noise_(noise) {
-  if (!noise.IsValid()) {
+}  // namespace
+
+ImuPreintegration::ImuPreintegration(const ImuBias& bias_lin, const sensor::ImuModel& imu,
+                                     double integration_sigma)
+    : bias_lin_(bias_lin), imu_(imu), integration_sigma_(integration_sigma) {
+  if (!ValidNoise(imu, integration_sigma)) {
     throw std::invalid_argument(
         "ImuPreintegration: noise densities and random walks must be finite and positive");
   }
@@ -86,12 +87,11 @@ void ImuPreintegration::Propagate(const Sample& s) {
   B_g.block<3, 3>(0, 0) = Jr * dt;
   B_a.block<3, 3>(3, 0) = R * dt;
   B_a.block<3, 3>(6, 0) = 0.5 * R * dt2;
-  const double var_g = noise_.gyro_noise_density * noise_.gyro_noise_density / dt;
-  const double var_a = noise_.accel_noise_density * noise_.accel_noise_density / dt;
+  const double var_g = imu_.gyro_noise_density * imu_.gyro_noise_density / dt;
+  const double var_a = imu_.accel_noise_density * imu_.accel_noise_density / dt;
   covariance_ = A * covariance_ * A.transpose() + var_g * B_g * B_g.transpose() +
                 var_a * B_a * B_a.transpose();
-  covariance_.block<3, 3>(6, 6).diagonal().array() +=
-      noise_.integration_sigma * noise_.integration_sigma * dt;
+  covariance_.block<3, 3>(6, 6).diagonal().array() += integration_sigma_ * integration_sigma_ * dt;
 
   // Bias Jacobians (position first: it reads the velocity and rotation Jacobians before the step).
   d_p_d_ba_ += d_v_d_ba_ * dt - 0.5 * R * dt2;

@@ -23,24 +23,16 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "plucker/sensor/imu.h"
+
 namespace plucker {
 
-// Continuous-time noise figures of an IMU (the units of a datasheet and of EuRoC's sensor.yaml).
-struct ImuNoise {
-  double gyro_noise_density = 1.7e-4;      // rad / s / sqrt(Hz)
-  double accel_noise_density = 2.0e-3;     // m / s^2 / sqrt(Hz)
-  double gyro_bias_random_walk = 2.0e-5;   // rad / s^2 / sqrt(Hz)
-  double accel_bias_random_walk = 3.0e-3;  // m / s^3 / sqrt(Hz)
-  // Position integration noise (m / sqrt(s)): variance sigma^2 dt added to the position block at
-  // every step, for the error of the Euler position update (GTSAM's "integration covariance").
-  // Without it the velocity and position blocks are driven by the same accelerometer noise and
-  // the covariance of a one-sample preintegration is singular. The default (0.1 mm after 1 s) is
-  // far below the accelerometer's contribution.
-  double integration_sigma = 1.0e-4;
-
-  // Finite and positive (a zero density would make the information infinite).
-  bool IsValid() const;
-};
+// Position integration noise (m / sqrt(s)): variance sigma^2 dt added to the position block at
+// every step, for the error of the Euler position update (GTSAM's "integration covariance").
+// Without it the velocity and position blocks are driven by the same accelerometer noise and the
+// covariance of a one-sample preintegration is singular. The default (0.1 mm after 1 s) is far
+// below the accelerometer's contribution.
+constexpr double kDefaultIntegrationSigma = 1.0e-4;
 
 struct ImuBias {
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad / s
@@ -58,8 +50,10 @@ using Matrix9d = Eigen::Matrix<double, 9, 9>;
 
 class ImuPreintegration {
  public:
-  // Throws std::invalid_argument for invalid noise or a non-finite bias.
-  ImuPreintegration(const ImuBias& bias_lin, const ImuNoise& noise);
+  // Throws std::invalid_argument for noise figures that are not finite and positive or a
+  // non-finite bias. (imu.rate_hz is not used: every sample brings its own period.)
+  ImuPreintegration(const ImuBias& bias_lin, const sensor::ImuModel& imu,
+                    double integration_sigma = kDefaultIntegrationSigma);
 
   // Adds one sample held for dt seconds. Throws std::invalid_argument for dt <= 0 or non-finite
   // values (nothing is changed then).
@@ -71,7 +65,7 @@ class ImuPreintegration {
   double Dt() const { return dt_sum_; }
   int NumSamples() const { return static_cast<int>(samples_.size()); }
   const ImuBias& BiasLinearisation() const { return bias_lin_; }
-  const ImuNoise& Noise() const { return noise_; }
+  const sensor::ImuModel& Imu() const { return imu_; }
   const Eigen::Matrix3d& DeltaR() const { return delta_R_; }
   const Eigen::Vector3d& DeltaV() const { return delta_v_; }
   const Eigen::Vector3d& DeltaP() const { return delta_p_; }
@@ -101,7 +95,8 @@ class ImuPreintegration {
   void Propagate(const Sample& s);
 
   ImuBias bias_lin_;
-  ImuNoise noise_;
+  sensor::ImuModel imu_;
+  double integration_sigma_;
   std::vector<Sample> samples_;
   double dt_sum_ = 0.0;
   Eigen::Matrix3d delta_R_;

@@ -46,7 +46,7 @@ ImuPreintegration Preintegrate(const sim::Trajectory& traj, double rate_hz, doub
   o.initial_gyro_bias = bias.gyro;
   o.initial_accel_bias = bias.accel;
   o.gravity_w = kGravity;
-  ImuPreintegration p(bias, ImuNoise());
+  ImuPreintegration p(bias, sensor::ImuModel());
   const double dt = 1.0 / rate_hz;
   const int first = static_cast<int>(std::lround(t0 * rate_hz));
   const int n = static_cast<int>(std::lround(duration * rate_hz));
@@ -93,7 +93,7 @@ std::vector<Eigen::Matrix<double, 6, 1>> RandomReadings(int n, std::uint64_t see
 
 ImuPreintegration Integrate(const std::vector<Eigen::Matrix<double, 6, 1>>& readings,
                             const ImuBias& bias) {
-  ImuPreintegration p(bias, ImuNoise());
+  ImuPreintegration p(bias, sensor::ImuModel());
   for (const auto& s : readings) p.Integrate(0.005, s.head<3>(), s.tail<3>());
   return p;
 }
@@ -148,7 +148,7 @@ TEST(ImuPreintegration, RepropagateEqualsIntegratingAtTheNewBias) {
 // The propagated covariance against the scatter of 2000 noisy integrations of the same motion.
 TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   const auto readings = RandomReadings(100, 7);
-  ImuNoise noise;
+  sensor::ImuModel noise;
   noise.gyro_noise_density = 2e-3;
   noise.accel_noise_density = 2e-2;
   ImuPreintegration clean(ImuBias(), noise);
@@ -180,13 +180,13 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
 }
 
 TEST(ImuPreintegration, RefusesBadInput) {
-  ImuNoise bad;
+  sensor::ImuModel bad;
   bad.gyro_noise_density = 0.0;
   EXPECT_THROW(ImuPreintegration(ImuBias(), bad), std::invalid_argument);
   ImuBias nan_bias;
   nan_bias.gyro(1) = std::nan("");
-  EXPECT_THROW(ImuPreintegration(nan_bias, ImuNoise()), std::invalid_argument);
-  ImuPreintegration p{ImuBias(), ImuNoise()};
+  EXPECT_THROW(ImuPreintegration(nan_bias, sensor::ImuModel()), std::invalid_argument);
+  ImuPreintegration p{ImuBias(), sensor::ImuModel()};
   EXPECT_THROW(p.Integrate(0.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()),
                std::invalid_argument);
   EXPECT_THROW(p.Integrate(0.005, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero()),

@@ -6,6 +6,17 @@
 namespace plucker {
 namespace sensor {
 
+// How an IMU is described (EuRoC's sensor.yaml gives the same values): its sample rate and the
+// continuous-time white-noise densities and bias random walks. The discrete per-sample sigmas are
+// density / sqrt(dt) (white noise) and random_walk * sqrt(dt) (bias step), dt = 1 / rate_hz.
+struct ImuModel {
+  double rate_hz = 200.0;
+  double gyro_noise_density = 1.7e-4;      // rad / s / sqrt(Hz)
+  double accel_noise_density = 2.0e-3;     // m / s^2 / sqrt(Hz)
+  double gyro_bias_random_walk = 2.0e-5;   // rad / s^2 / sqrt(Hz)
+  double accel_bias_random_walk = 3.0e-3;  // m / s^3 / sqrt(Hz)
+};
+
 struct ImuSample {
   double t = 0.0;                                        // s
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();        // rad/s, body frame

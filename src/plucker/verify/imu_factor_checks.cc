@@ -24,7 +24,7 @@ namespace {
 const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
 
 struct ImuSampleCase {
-  ImuPreintegration preintegration{ImuBias(), ImuNoise()};
+  ImuPreintegration preintegration{ImuBias(), sensor::ImuModel()};
   SE3d T_w_b_i, T_w_b_j;
   Eigen::Vector3d v_i, v_j;
   Eigen::Matrix<double, 6, 1> bias_i, bias_j;
@@ -34,7 +34,7 @@ ImuPreintegration MakePreintegration(Rng& rng, int i) {
   ImuBias bias_lin;
   bias_lin.gyro = RandomVector(rng, 0.01);
   bias_lin.accel = RandomVector(rng, 0.1);
-  ImuNoise noise;
+  sensor::ImuModel noise;
   noise.gyro_noise_density *= Uniform(rng, 0.5, 5.0);
   noise.accel_noise_density *= Uniform(rng, 0.5, 5.0);
   ImuPreintegration p(bias_lin, noise);
