@@ -1,5 +1,6 @@
 #include "plucker/factors/imu_preintegration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -66,44 +67,49 @@ void ImuPreintegration::Repropagate(const ImuBias& bias_lin) {
   for (const Sample& s : samples_) Propagate(s);
 }
 
-// One Euler step; every right-hand side uses the values before the step (docs/math).
+// One step with the rotation at mid-step, R_m = DR Exp(phi / 2) (docs/math/imu-preintegration.md);
+// every right-hand side uses the values before the step.
 void ImuPreintegration::Propagate(const Sample& s) {
   const double dt = s.dt, dt2 = dt * dt;
   const Eigen::Vector3d a = s.accel - bias_lin_.accel;
   const Eigen::Vector3d phi = (s.gyro - bias_lin_.gyro) * dt;
   const Eigen::Matrix3d dR = ExpSO3Matrix<double>(phi);
   const Eigen::Matrix3d Jr = RightJacobianSO3(phi);
-  const Eigen::Matrix3d R = delta_R_;
-  const Eigen::Matrix3d R_a_hat = R * Hat<double>(a);
+  const Eigen::Matrix3d half_T = ExpSO3Matrix<double>(0.5 * phi).transpose();
+  const Eigen::Matrix3d Jr_half = RightJacobianSO3(0.5 * phi);
+  const Eigen::Matrix3d R_m = delta_R_ * half_T.transpose();
+  const Eigen::Matrix3d R_m_a_hat = R_m * Hat<double>(a);
 
   // Covariance: Sigma <- A Sigma A^T + B_g Q_g B_g^T + B_a Q_a B_a^T on [dtheta, dv, dp].
   Matrix9d A = Matrix9d::Identity();
   A.block<3, 3>(0, 0) = dR.transpose();
-  A.block<3, 3>(3, 0) = -R_a_hat * dt;
-  A.block<3, 3>(6, 0) = -0.5 * R_a_hat * dt2;
+  A.block<3, 3>(3, 0) = -R_m_a_hat * half_T * dt;
+  A.block<3, 3>(6, 0) = -0.5 * R_m_a_hat * half_T * dt2;
   A.block<3, 3>(6, 3) = Eigen::Matrix3d::Identity() * dt;
-  Eigen::Matrix<double, 9, 3> B_g = Eigen::Matrix<double, 9, 3>::Zero();
-  Eigen::Matrix<double, 9, 3> B_a = Eigen::Matrix<double, 9, 3>::Zero();
+  Eigen::Matrix<double, 9, 3> B_g = Eigen::Matrix<double, 9, 3>::Zero(), B_a = B_g;
   B_g.block<3, 3>(0, 0) = Jr * dt;
-  B_a.block<3, 3>(3, 0) = R * dt;
-  B_a.block<3, 3>(6, 0) = 0.5 * R * dt2;
+  B_g.block<3, 3>(3, 0) = -0.5 * R_m_a_hat * Jr_half * dt2;
+  B_g.block<3, 3>(6, 0) = -0.25 * R_m_a_hat * Jr_half * dt2 * dt;
+  B_a.block<3, 3>(3, 0) = R_m * dt;
+  B_a.block<3, 3>(6, 0) = 0.5 * R_m * dt2;
   const double var_g = imu_.gyro_noise_density * imu_.gyro_noise_density / dt;
   const double var_a = imu_.accel_noise_density * imu_.accel_noise_density / dt;
   covariance_ = A * covariance_ * A.transpose() + var_g * B_g * B_g.transpose() +
                 var_a * B_a * B_a.transpose();
   covariance_.block<3, 3>(6, 6).diagonal().array() += integration_sigma_ * integration_sigma_ * dt;
 
-  // Bias Jacobians (position first: it reads the velocity and rotation Jacobians before the step).
-  d_p_d_ba_ += d_v_d_ba_ * dt - 0.5 * R * dt2;
-  d_p_d_bg_ += d_v_d_bg_ * dt - 0.5 * R_a_hat * d_R_d_bg_ * dt2;
-  d_v_d_ba_ -= R * dt;
-  d_v_d_bg_ -= R_a_hat * d_R_d_bg_ * dt;
+  // Bias Jacobians (position first: it reads the velocity Jacobians before the step).
+  const Eigen::Matrix3d d_Rm_d_bg = half_T * d_R_d_bg_ - 0.5 * Jr_half * dt;
+  d_p_d_ba_ += d_v_d_ba_ * dt - 0.5 * R_m * dt2;
+  d_p_d_bg_ += d_v_d_bg_ * dt - 0.5 * R_m_a_hat * d_Rm_d_bg * dt2;
+  d_v_d_ba_ -= R_m * dt;
+  d_v_d_bg_ -= R_m_a_hat * d_Rm_d_bg * dt;
   d_R_d_bg_ = dR.transpose() * d_R_d_bg_ - Jr * dt;
 
   // The deltas.
-  delta_p_ += delta_v_ * dt + 0.5 * R * a * dt2;
-  delta_v_ += R * a * dt;
-  delta_R_ = R * dR;
+  delta_p_ += delta_v_ * dt + 0.5 * R_m * a * dt2;
+  delta_v_ += R_m * a * dt;
+  delta_R_ = delta_R_ * dR;
   dt_sum_ += dt;
 }
 
@@ -129,6 +135,40 @@ NavState ImuPreintegration::Predict(const NavState& i, const ImuBias& bias,
   j.v_w = i.v_w + gravity_w * T + i.R_w_b * CorrectedDeltaV(bias);
   j.p_w = i.p_w + i.v_w * T + 0.5 * gravity_w * T * T + i.R_w_b * CorrectedDeltaP(bias);
   return j;
+}
+
+namespace {
+
+// The readings at time t, interpolated linearly between samples k and k + 1.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingAt(const std::vector<sensor::ImuSample>& imu,
+                                                      std::size_t k, double t) {
+  const sensor::ImuSample &a = imu[k], &b = imu[k + 1];
+  const double u = std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0);
+  return {a.gyro + u * (b.gyro - a.gyro), a.accel + u * (b.accel - a.accel)};
+}
+
+}  // namespace
+
+ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
+                                      double t1, const ImuBias& bias,
+                                      const sensor::ImuModel& model) {
+  if (!(t1 > t0) || imu.size() < 2 || t0 < imu.front().t || t1 > imu.back().t) {
+    throw std::invalid_argument("PreintegrateSamples: the samples do not cover the interval");
+  }
+  ImuPreintegration p(bias, model);
+  // The last sample at or before t0.
+  std::size_t k = static_cast<std::size_t>(
+      std::upper_bound(imu.begin(), imu.end(), t0,
+                       [](double t, const sensor::ImuSample& s) { return t < s.t; }) -
+      imu.begin() - 1);
+  for (; k + 1 < imu.size() && imu[k].t < t1; ++k) {
+    const double a = std::max(imu[k].t, t0), b = std::min(imu[k + 1].t, t1);
+    if (!(b > a)) continue;
+    const auto [gyro_a, accel_a] = ReadingAt(imu, k, a);
+    const auto [gyro_b, accel_b] = ReadingAt(imu, k, b);
+    p.Integrate(b - a, 0.5 * (gyro_a + gyro_b), 0.5 * (accel_a + accel_b));
+  }
+  return p;
 }
 
 }  // namespace plucker

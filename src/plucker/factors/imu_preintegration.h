@@ -1,14 +1,16 @@
 // On-manifold IMU preintegration between two keyframes i and j (Forster et al., TRO 2017;
 // docs/math/imu-preintegration.md).
 //
-// Body frame b = IMU frame. A sample (gyro w_k, specific force a_k) is held over [t_k, t_k + dt_k)
-// (zero-order hold) and integrated by the Euler scheme, with the biases held at the
-// linearisation point (b_g, b_a):
-//   Dp <- Dp + Dv dt + 1/2 DR (a_k - b_a) dt^2
-//   Dv <- Dv + DR (a_k - b_a) dt
-//   DR <- DR Exp((w_k - b_g) dt)
-// The rotation is exact for a constant rate over the step; velocity and position carry an
-// O(dt) error per unit time (test ImuPreintegration.ConvergesToTheTrajectoryAtFirstOrder).
+// Body frame b = IMU frame. A reading (gyro w_k, specific force a_k) is taken as constant over a
+// step of dt_k seconds and integrated with the rotation at mid-step, with the biases held at the
+// linearisation point (b_g, b_a); for phi = (w_k - b_g) dt and R_m = DR Exp(phi / 2):
+//   Dp <- Dp + Dv dt + 1/2 R_m (a_k - b_a) dt^2
+//   Dv <- Dv + R_m (a_k - b_a) dt
+//   DR <- DR Exp(phi)
+// The rotation is exact for a constant rate; velocity and position are of second order per
+// step. Fed with held samples (the reading at the start of
+// each step) the error is O(dt) per unit time; fed with the mean of the readings at both ends of
+// the step (PreintegrateSamples below) it is O(dt^2).
 //
 // Alongside, in the order [dtheta, dv, dp] of the 9-dimensional error state:
 // - the covariance, propagated from the continuous-time noise densities (discrete per-sample
@@ -104,5 +106,14 @@ class ImuPreintegration {
   Matrix9d covariance_;
   Eigen::Matrix3d d_R_d_bg_, d_v_d_bg_, d_v_d_ba_, d_p_d_bg_, d_p_d_ba_;
 };
+
+// Preintegration of a sample stream over [t0, t1]: readings are interpolated linearly between
+// samples, and each sub-interval between consecutive sample times (cut at t0 and t1) integrates
+// the mean of the readings at its two ends. With the mid-step rotation of Integrate the scheme is
+// of second order (test ImuPreintegration.SampleStreamConvergesAtSecondOrder). Throws
+// std::invalid_argument when t1 <= t0 or the samples (increasing times) do not cover [t0, t1].
+ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
+                                      double t1, const ImuBias& bias,
+                                      const sensor::ImuModel& model);
 
 }  // namespace plucker

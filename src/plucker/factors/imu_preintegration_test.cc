@@ -61,7 +61,8 @@ double PositionError(const ImuPreintegration& p, const sim::Trajectory& traj, do
   return (j.p_w - traj.position_w(t0 + p.Dt())).norm();
 }
 
-TEST(ImuPreintegration, ConvergesToTheTrajectoryAtFirstOrder) {
+// Held samples (the reading at the start of every step): first order.
+TEST(ImuPreintegration, HeldSamplesConvergeAtFirstOrder) {
   const sim::Trajectory traj = TestTrajectory();
   ImuBias bias;
   bias.gyro << 0.01, -0.02, 0.005;
@@ -79,6 +80,43 @@ TEST(ImuPreintegration, ConvergesToTheTrajectoryAtFirstOrder) {
   const NavState j = fine.Predict(TruthAt(traj, t0), bias, kGravity);
   EXPECT_LT(LogSO3<double>(Eigen::Quaterniond(traj.R_w_b(t0 + 1.0).transpose() * j.R_w_b)).norm(),
             1e-3);
+}
+
+// The sample stream with the mean readings of each step: second order.
+TEST(ImuPreintegration, SampleStreamConvergesAtSecondOrder) {
+  const sim::Trajectory traj = TestTrajectory();
+  ImuBias bias;
+  bias.gyro << 0.01, -0.02, 0.005;
+  bias.accel << 0.1, 0.05, -0.08;
+  const double t0 = 2.0, t1 = 3.0;
+  double error[2];
+  for (int r = 0; r < 2; ++r) {
+    sim::ImuOptions o;
+    o.rate_hz = r == 0 ? 100.0 : 500.0;
+    o.gyro_noise_density = o.accel_noise_density = 0.0;
+    o.gyro_bias_random_walk = o.accel_bias_random_walk = 0.0;
+    o.initial_gyro_bias = bias.gyro;
+    o.initial_accel_bias = bias.accel;
+    o.gravity_w = kGravity;
+    const ImuPreintegration p =
+        PreintegrateSamples(sim::SimulateImu(traj, o, 1), t0, t1, bias, sensor::ImuModel());
+    EXPECT_NEAR(p.Dt(), 1.0, 1e-12);
+    error[r] = PositionError(p, traj, t0, bias);
+  }
+  EXPECT_LT(error[0], 2e-3);             // 2 mm after 1 s at 100 Hz
+  EXPECT_GT(error[0] / error[1], 15.0);  // 5x the rate: 1/25 the error at second order
+}
+
+TEST(ImuPreintegration, SampleStreamRefusesAnUncoveredInterval) {
+  std::vector<sensor::ImuSample> imu(3);
+  for (int k = 0; k < 3; ++k) imu[k].t = 0.01 * k;
+  EXPECT_THROW(PreintegrateSamples(imu, 0.0, 0.03, ImuBias(), sensor::ImuModel()),
+               std::invalid_argument);
+  EXPECT_THROW(PreintegrateSamples(imu, 0.01, 0.01, ImuBias(), sensor::ImuModel()),
+               std::invalid_argument);
+  // A sub-interval cut at both ends: 0.005 .. 0.015 s.
+  EXPECT_NEAR(PreintegrateSamples(imu, 0.005, 0.015, ImuBias(), sensor::ImuModel()).Dt(), 0.01,
+              1e-15);
 }
 
 std::vector<Eigen::Matrix<double, 6, 1>> RandomReadings(int n, std::uint64_t seed) {

@@ -143,15 +143,15 @@ std::vector<sensor::ImuSample> ParseEurocImuCsv(const std::string& text, const s
   return samples;
 }
 
-std::vector<EurocGroundTruthState> ParseEurocGroundTruthCsv(const std::string& text,
-                                                            const std::string& name,
-                                                            std::int64_t origin_ns) {
-  std::vector<EurocGroundTruthState> states;
+std::vector<sensor::BodyState> ParseEurocGroundTruthCsv(const std::string& text,
+                                                        const std::string& name,
+                                                        std::int64_t origin_ns) {
+  std::vector<sensor::BodyState> states;
   ForEachRow(text, name, 17, origin_ns,
              [&](const std::vector<double>& v, const std::string& where, double t) {
                const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);  // w, x, y, z in the file
                if (!(q.squaredNorm() > 1e-12)) throw IoError(where, "zero quaternion");
-               EurocGroundTruthState s;
+               sensor::BodyState s;
                s.t = t;
                s.T_w_b = SE3d(q, Eigen::Vector3d(v[0], v[1], v[2]));
                s.v_w = Eigen::Vector3d(v[7], v[8], v[9]);

@@ -22,24 +22,17 @@
 #include <vector>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/body_state.h"
 #include "plucker/sensor/imu.h"
 
 namespace plucker {
 namespace io {
 
-struct EurocGroundTruthState {
-  double t = 0.0;  // s since the recording's origin
-  SE3d T_w_b;
-  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();
-};
-
 struct EurocImuRecording {
   std::int64_t origin_ns = 0;  // the first IMU timestamp
   sensor::ImuModel imu_model;
   std::vector<sensor::ImuSample> imu;
-  std::vector<EurocGroundTruthState> ground_truth;  // empty when the folder has none
+  std::vector<sensor::BodyState> ground_truth;  // empty when the folder has none
 };
 
 // `dir` is the dataset folder (with mav0/) or mav0 itself.
@@ -48,9 +41,9 @@ EurocImuRecording ReadEurocImuRecording(const std::string& dir);
 // The single readers, for tests and other layouts. `name` is used in error messages.
 std::vector<sensor::ImuSample> ParseEurocImuCsv(const std::string& text, const std::string& name,
                                                 std::int64_t origin_ns);
-std::vector<EurocGroundTruthState> ParseEurocGroundTruthCsv(const std::string& text,
-                                                            const std::string& name,
-                                                            std::int64_t origin_ns);
+std::vector<sensor::BodyState> ParseEurocGroundTruthCsv(const std::string& text,
+                                                        const std::string& name,
+                                                        std::int64_t origin_ns);
 sensor::ImuModel ParseEurocImuYaml(const std::string& text, const std::string& name);
 
 }  // namespace io
