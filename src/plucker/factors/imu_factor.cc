@@ -21,13 +21,7 @@ bool Finite(const double* x, int n) {
 
 // S with S^T S = Sigma^-1: for Sigma = L L^T, S = L^-1.
 Matrix15d SqrtInformation(const ImuPreintegration& p) {
-  Matrix15d covariance = Matrix15d::Zero();
-  covariance.topLeftCorner<9, 9>() = p.Covariance();
-  const sensor::ImuModel& n = p.Imu();
-  covariance.block<3, 3>(9, 9).diagonal().setConstant(n.gyro_bias_random_walk *
-                                                      n.gyro_bias_random_walk * p.Dt());
-  covariance.block<3, 3>(12, 12).diagonal().setConstant(n.accel_bias_random_walk *
-                                                        n.accel_bias_random_walk * p.Dt());
+  const Matrix15d& covariance = p.JointCovariance();
   const Eigen::LLT<Matrix15d> llt(covariance);
   if (llt.info() != Eigen::Success) {
     throw std::invalid_argument("ImuFactor: preintegration covariance is not positive definite");

@@ -2,8 +2,8 @@
 //
 // Parameter blocks: T_w_b_i (pose block, 7), v_w_i (3), bias_i = [b_g, b_a] (6),
 //                   T_w_b_j (7), v_w_j (3), bias_j (6).
-// Residual (15) = S [r_R, r_v, r_p, r_bg, r_ba] with S the square-root information of
-// blockdiag(preintegration covariance (9x9), sigma_bg_rw^2 Dt I, sigma_ba_rw^2 Dt I) and, for
+// Residual (15) = S [r_R, r_v, r_p, r_bg, r_ba] with S the square-root information of the
+// preintegration's joint covariance (ImuPreintegration::JointCovariance) and, for
 // d_g = b_g_i - b_g_lin, d_a = b_a_i - b_a_lin (first-order bias correction):
 //   r_R  = Log((DR Exp(dR_dbg d_g))^T R_i^T R_j)
 //   r_v  = R_i^T (v_j - v_i - g Dt) - (Dv + dv_dbg d_g + dv_dba d_a)
@@ -25,8 +25,6 @@
 #include "plucker/geometry/se3.h"
 
 namespace plucker {
-
-using Matrix15d = Eigen::Matrix<double, 15, 15>;
 
 // The values the factor keeps from a preintegration.
 struct ImuMeasurement {

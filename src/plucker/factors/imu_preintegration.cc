@@ -80,7 +80,7 @@ void ImuPreintegration::Propagate(const Sample& s) {
   const Eigen::Matrix3d R_m = delta_R_ * half_T.transpose();
   const Eigen::Matrix3d R_m_a_hat = R_m * Hat<double>(a);
 
-  // Covariance: Sigma <- A Sigma A^T + B_g Q_g B_g^T + B_a Q_a B_a^T on [dtheta, dv, dp].
+  // Covariance of [dtheta, dv, dp]: Sigma <- A Sigma A^T + B_g Q_g B_g^T + B_a Q_a B_a^T.
   Matrix9d A = Matrix9d::Identity();
   A.block<3, 3>(0, 0) = dR.transpose();
   A.block<3, 3>(3, 0) = -R_m_a_hat * half_T * dt;
@@ -94,9 +94,20 @@ void ImuPreintegration::Propagate(const Sample& s) {
   B_a.block<3, 3>(6, 0) = 0.5 * R_m * dt2;
   const double var_g = imu_.gyro_noise_density * imu_.gyro_noise_density / dt;
   const double var_a = imu_.accel_noise_density * imu_.accel_noise_density / dt;
-  covariance_ = A * covariance_ * A.transpose() + var_g * B_g * B_g.transpose() +
-                var_a * B_a * B_a.transpose();
+  // Joint with the bias drift beta since i: the reading is corrected by b_i, so beta enters the
+  // step as the noise does, with the opposite sign.
+  Matrix15d A15 = Matrix15d::Identity();
+  A15.topLeftCorner<9, 9>() = A;
+  A15.block<9, 3>(0, 9) = -B_g;
+  A15.block<9, 3>(0, 12) = -B_a;
+  covariance_ = A15 * covariance_ * A15.transpose();
+  covariance_.topLeftCorner<9, 9>() +=
+      var_g * B_g * B_g.transpose() + var_a * B_a * B_a.transpose();
   covariance_.block<3, 3>(6, 6).diagonal().array() += integration_sigma_ * integration_sigma_ * dt;
+  covariance_.block<3, 3>(9, 9).diagonal().array() +=
+      imu_.gyro_bias_random_walk * imu_.gyro_bias_random_walk * dt;
+  covariance_.block<3, 3>(12, 12).diagonal().array() +=
+      imu_.accel_bias_random_walk * imu_.accel_bias_random_walk * dt;
 
   // Bias Jacobians (position first: it reads the velocity Jacobians before the step).
   const Eigen::Matrix3d d_Rm_d_bg = half_T * d_R_d_bg_ - 0.5 * Jr_half * dt;

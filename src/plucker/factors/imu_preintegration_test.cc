@@ -180,7 +180,7 @@ TEST(ImuPreintegration, RepropagateEqualsIntegratingAtTheNewBias) {
   EXPECT_EQ(p.NumSamples(), 50);
   EXPECT_LT((p.DeltaR() - q.DeltaR()).norm(), 1e-15);
   EXPECT_LT((p.DeltaP() - q.DeltaP()).norm(), 1e-15);
-  EXPECT_LT((p.Covariance() - q.Covariance()).norm(), 1e-15 * q.Covariance().norm());
+  EXPECT_LT((p.JointCovariance() - q.JointCovariance()).norm(), 1e-15 * q.JointCovariance().norm());
 }
 
 // The propagated covariance against the scatter of 2000 noisy integrations of the same motion.
