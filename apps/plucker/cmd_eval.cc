@@ -463,6 +463,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"none", "se3", "sim3"}))
       ->capture_default_str();
   rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
+
+  AddEvalImu(eval_cmd, exit_code);
 }
 
 }  // namespace app

@@ -109,8 +109,8 @@ double PositiveKey(const YAML::Node& root, const char* key, const std::string& n
 }
 
 void CheckIdentityTbs(const YAML::Node& root, const std::string& name) {
-  const YAML::Node data = root["T_BS"] ? root["T_BS"]["data"] : YAML::Node();
-  if (!data) return;  // absent: the body frame is the IMU frame
+  if (!root["T_BS"]) return;  // absent: the body frame is the IMU frame
+  const YAML::Node data = root["T_BS"]["data"];
   if (!data.IsSequence() || data.size() != 16) {
     throw IoError(name, "T_BS/data must hold 16 numbers");
   }

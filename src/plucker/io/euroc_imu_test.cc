@@ -79,6 +79,12 @@ TEST(EurocImu, RefusesBadCsv) {
               "g.csv:1", "zero quaternion");
 }
 
+TEST(EurocImu, AcceptsAMissingTbs) {
+  std::string no_tbs = kYaml;
+  no_tbs.erase(no_tbs.find("T_BS"), no_tbs.find("rate_hz") - no_tbs.find("T_BS"));
+  EXPECT_EQ(ParseEurocImuYaml(no_tbs, "s.yaml").rate_hz, 200.0);
+}
+
 TEST(EurocImu, RefusesBadYaml) {
   std::string missing = kYaml;
   missing.erase(missing.find("rate_hz"), std::string("rate_hz: 200\n").size());
