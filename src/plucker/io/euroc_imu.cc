@@ -150,7 +150,10 @@ std::vector<sensor::BodyState> ParseEurocGroundTruthCsv(const std::string& text,
   ForEachRow(text, name, 17, origin_ns,
              [&](const std::vector<double>& v, const std::string& where, double t) {
                const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);  // w, x, y, z in the file
-               if (!(q.squaredNorm() > 1e-12)) throw IoError(where, "zero quaternion");
+               const double n2 = q.squaredNorm();
+               if (!(n2 > 1e-12) || !std::isfinite(n2)) {
+                 throw IoError(where, "zero or overflowing quaternion");
+               }
                sensor::BodyState s;
                s.t = t;
                s.T_w_b = SE3d(q, Eigen::Vector3d(v[0], v[1], v[2]));

@@ -76,7 +76,7 @@ TEST(EurocImu, RefusesBadCsv) {
               "does not increase");
   ExpectError([] { ParseEurocImuCsv("#only a header\n", "a.csv", 0); }, "a.csv", "empty file");
   ExpectError([] { ParseEurocGroundTruthCsv("1,1,2,3,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "g.csv", 0); },
-              "g.csv:1", "zero quaternion");
+              "g.csv:1", "zero or overflowing quaternion");
 }
 
 TEST(EurocImu, AcceptsAMissingTbs) {
