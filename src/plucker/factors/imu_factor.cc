@@ -11,7 +11,7 @@ namespace plucker {
 
 namespace {
 
-using Matrix15x3 = Eigen::Matrix<double, 15, 3>;
+using Matrix9x3 = Eigen::Matrix<double, 9, 3>;
 
 bool Finite(const double* x, int n) {
   for (int i = 0; i < n; ++i)
@@ -83,7 +83,7 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
       ImuResidualT<double>(m_, SE3d(q_i, p_i), parameters[1], parameters[2], SE3d(q_j, p_j),
                            parameters[4], parameters[5]);
   Eigen::Map<Eigen::Matrix<double, 15, 1>> weighted(residuals);
-  weighted = m_.sqrt_information * r;
+  weighted = m_.sqrt_information.lazyProduct(r);
   if (!jacobians) return true;
 
   const Eigen::Map<const Eigen::Vector3d> v_i(parameters[1]), v_j(parameters[4]);
@@ -96,48 +96,44 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Matrix3d M_T = ExpSO3Matrix<double>(r_R).transpose();  // (R_c^T R_i^T R_j)^T
   const Eigen::Vector3d u = v_j - v_i - m_.gravity_w * dt;
   const Eigen::Vector3d s = p_j - p_i - v_i * dt - 0.5 * m_.gravity_w * dt * dt;
-  const Matrix15d& S = m_.sqrt_information;
+  // Every block's unweighted Jacobian is [J9; J_bias] with J9 on the rows [r_R, r_v, r_p] and
+  // J_bias = 0, -I or +I on the bias rows: whiten the two parts apart (S is 15x15, lower
+  // triangular; lazyProduct keeps these small fixed-size products out of Eigen's GEMM path).
+  const auto S9 = m_.sqrt_information.leftCols<9>();
+  const auto S_bias = m_.sqrt_information.rightCols<6>();
 
-  if (jacobians[0]) {  // T_w_b_i: rows [R, v, p] of the rotation and translation tangents
-    Matrix15x3 J_rot = Matrix15x3::Zero(), J_t = Matrix15x3::Zero();
-    J_rot.block<3, 3>(0, 0) = -Jr_inv * R_j.transpose() * R_i;
-    J_rot.block<3, 3>(3, 0) = Hat<double>(R_i_T * u);
-    J_rot.block<3, 3>(6, 0) = Hat<double>(R_i_T * s);
-    J_t.block<3, 3>(6, 0) = -R_i_T;
-    pose_block::WriteAmbient<15>(S * J_rot, S * J_t, q_i, jacobians[0]);
+  if (jacobians[0]) {  // T_w_b_i: rotation and translation tangents
+    Matrix9x3 J_rot, J_t = Matrix9x3::Zero();
+    J_rot << -Jr_inv * R_j.transpose() * R_i, Hat<double>(R_i_T * u), Hat<double>(R_i_T * s);
+    J_t.bottomRows<3>() = -R_i_T;
+    pose_block::WriteAmbient<15>(S9.lazyProduct(J_rot), S9.lazyProduct(J_t), q_i, jacobians[0]);
   }
   if (jacobians[1]) {  // v_i
-    Matrix15x3 J = Matrix15x3::Zero();
-    J.block<3, 3>(3, 0) = -R_i_T;
-    J.block<3, 3>(6, 0) = -R_i_T * dt;
-    WriteBlock(S * J, jacobians[1]);
+    Matrix9x3 J;
+    J << Eigen::Matrix3d::Zero(), -R_i_T, -R_i_T * dt;
+    WriteBlock(S9.lazyProduct(J), jacobians[1]);
   }
   if (jacobians[2]) {  // bias_i = [b_g, b_a]
-    Eigen::Matrix<double, 15, 6> J = Eigen::Matrix<double, 15, 6>::Zero();
+    Eigen::Matrix<double, 9, 6> J = Eigen::Matrix<double, 9, 6>::Zero();
     J.block<3, 3>(0, 0) = -Jr_inv * M_T * RightJacobianSO3(phi) * m_.d_R_d_bg;
     J.block<3, 3>(3, 0) = -m_.d_v_d_bg;
     J.block<3, 3>(3, 3) = -m_.d_v_d_ba;
     J.block<3, 3>(6, 0) = -m_.d_p_d_bg;
     J.block<3, 3>(6, 3) = -m_.d_p_d_ba;
-    J.block<6, 6>(9, 0) = -Eigen::Matrix<double, 6, 6>::Identity();
-    WriteBlock(S * J, jacobians[2]);
+    WriteBlock(S9.lazyProduct(J) - S_bias, jacobians[2]);
   }
   if (jacobians[3]) {  // T_w_b_j
-    Matrix15x3 J_rot = Matrix15x3::Zero(), J_t = Matrix15x3::Zero();
-    J_rot.block<3, 3>(0, 0) = Jr_inv;
-    J_t.block<3, 3>(6, 0) = R_i_T;
-    pose_block::WriteAmbient<15>(S * J_rot, S * J_t, q_j, jacobians[3]);
+    Matrix9x3 J_rot = Matrix9x3::Zero(), J_t = Matrix9x3::Zero();
+    J_rot.topRows<3>() = Jr_inv;
+    J_t.bottomRows<3>() = R_i_T;
+    pose_block::WriteAmbient<15>(S9.lazyProduct(J_rot), S9.lazyProduct(J_t), q_j, jacobians[3]);
   }
   if (jacobians[4]) {  // v_j
-    Matrix15x3 J = Matrix15x3::Zero();
-    J.block<3, 3>(3, 0) = R_i_T;
-    WriteBlock(S * J, jacobians[4]);
+    Matrix9x3 J = Matrix9x3::Zero();
+    J.middleRows<3>(3) = R_i_T;
+    WriteBlock(S9.lazyProduct(J), jacobians[4]);
   }
-  if (jacobians[5]) {  // bias_j
-    Eigen::Matrix<double, 15, 6> J = Eigen::Matrix<double, 15, 6>::Zero();
-    J.block<6, 6>(9, 0) = Eigen::Matrix<double, 6, 6>::Identity();
-    WriteBlock(S * J, jacobians[5]);
-  }
+  if (jacobians[5]) WriteBlock(S_bias, jacobians[5]);  // bias_j
   return true;
 }
 

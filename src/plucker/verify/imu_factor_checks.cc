@@ -14,21 +14,13 @@
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/cost_function_check.h"
+#include "plucker/verify/imu_factor_sample.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
 namespace verify {
 
 namespace {
-
-const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
-
-struct ImuSampleCase {
-  ImuPreintegration preintegration{ImuBias(), sensor::ImuModel()};
-  SE3d T_w_b_i, T_w_b_j;
-  Eigen::Vector3d v_i, v_j;
-  Eigen::Matrix<double, 6, 1> bias_i, bias_j;
-};
 
 ImuPreintegration MakePreintegration(Rng& rng, int i) {
   ImuBias bias_lin;
@@ -52,8 +44,10 @@ ImuPreintegration MakePreintegration(Rng& rng, int i) {
   return p;
 }
 
-ImuSampleCase MakeCase(Rng& rng, int i) {
-  ImuSampleCase c;
+}  // namespace
+
+ImuFactorSample MakeImuFactorSample(Rng& rng, int i) {
+  ImuFactorSample c;
   c.preintegration = MakePreintegration(rng, i);
   const ImuBias& lin = c.preintegration.BiasLinearisation();
   NavState s_i;
@@ -66,7 +60,7 @@ ImuSampleCase MakeCase(Rng& rng, int i) {
     b_i.gyro += RandomVector(rng, i == 3 ? 0.05 : 1e-3);
     b_i.accel += RandomVector(rng, i == 3 ? 0.5 : 1e-2);
   }
-  const NavState s_j = c.preintegration.Predict(s_i, b_i, kGravity);
+  const NavState s_j = c.preintegration.Predict(s_i, b_i, kImuSampleGravity);
   const double e = i == 5 ? 0.0 : 1.0;
   c.T_w_b_i = T_i;
   c.T_w_b_j = SE3d(Eigen::Quaterniond(s_j.R_w_b) * ExpSO3<double>(RandomVector(rng, 1e-3 * e)),
@@ -79,6 +73,8 @@ ImuSampleCase MakeCase(Rng& rng, int i) {
   c.bias_j.tail<3>() += RandomVector(rng, 1e-3 * e);
   return c;
 }
+
+namespace {
 
 std::string Describe(int i) {
   static const char* kNames[] = {"at rest, identity pose", "one IMU sample",
@@ -105,10 +101,10 @@ std::vector<NamedJacobianCheck> ImuFactorJacobianChecks() {
   return {{name, [name](const JacobianCheckOptions& o) {
              const PoseManifold pose;
              return RunCostFunctionCheck(name, 401, o, [&](Rng& rng, int i) {
-               const ImuSampleCase s = MakeCase(rng, i);
+               const ImuFactorSample s = MakeImuFactorSample(rng, i);
                CostFunctionSample c;
-               c.analytic.reset(ImuFactor::Create(s.preintegration, kGravity));
-               c.autodiff.reset(ImuFactor::CreateAutoDiff(s.preintegration, kGravity));
+               c.analytic.reset(ImuFactor::Create(s.preintegration, kImuSampleGravity));
+               c.autodiff.reset(ImuFactor::CreateAutoDiff(s.preintegration, kImuSampleGravity));
                AddPose(s.T_w_b_i, &pose, &c);
                AddVector(s.v_i, &c);
                AddVector(s.bias_i, &c);
