@@ -21,6 +21,7 @@ std::vector<NamedJacobianCheck> FactorJacobianChecks() {
   Append(&all, PointFactorJacobianChecks());
   Append(&all, LidarFactorJacobianChecks());
   Append(&all, ImuFactorJacobianChecks());
+  Append(&all, MarginalizationJacobianChecks());
   return all;
 }
 
