@@ -85,6 +85,20 @@ expect eval-bad-number nonzero "bad_poses.txt:2" -- \
 expect eval-missing-file nonzero "no_such.txt" -- \
   "$PLUCKER" eval rpe --gt "$T/no_such.txt" --est "$T/est.txt"
 
+# IMU noise model against a EuRoC-layout folder: a tiny synthetic log at rest, then bad input.
+E="$T/euroc/mav0"
+mkdir -p "$E/imu0" "$E/state_groundtruth_estimate0"
+printf 'rate_hz: 200\ngyroscope_noise_density: 1.7e-4\ngyroscope_random_walk: 2e-5\naccelerometer_noise_density: 2e-3\naccelerometer_random_walk: 3e-3\n' > "$E/imu0/sensor.yaml"
+awk 'BEGIN { for (k = 0; k <= 400; ++k) printf "%.0f,0,0,0,0,0,9.81\n", 1000000000 + k * 5000000 }' > "$E/imu0/data.csv"
+awk 'BEGIN { for (k = 0; k <= 40; ++k) printf "%.0f,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n", 1000000000 + k * 50000000 }' \
+  > "$E/state_groundtruth_estimate0/data.csv"
+expect eval-imu 0 "1.00 +21 " -- "$PLUCKER" eval imu --euroc "$T/euroc"
+expect eval-imu-json 0 '"windows"' -- "$PLUCKER" eval imu --euroc "$T/euroc" --json --windows 0.5
+sed -i '3s/,9.81$/,x/' "$E/imu0/data.csv"
+expect eval-imu-bad-number nonzero "imu0/data.csv:3: bad number" -- \
+  "$PLUCKER" eval imu --euroc "$T/euroc"
+expect eval-imu-not-euroc nonzero "not a EuRoC folder" -- "$PLUCKER" eval imu --euroc "$T/nothing"
+
 # Camera simulation and the demo (camera part only, small).
 expect sim-camera 0 "" -- "$PLUCKER" sim camera --out "$T/cam" --scene room --frames 10
 expect demo-camera 0 "after" -- "$PLUCKER" demo --no-lidar --frames 8 --out "$T/demo"

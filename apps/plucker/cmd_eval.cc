@@ -442,8 +442,10 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   ate_args->align = "se3";
   CLI::App* ate = eval_cmd->add_subcommand("ate", "Absolute trajectory error after alignment");
   AddCommonOptions(ate, ate_args.get());
-  ate->add_option("--align", ate_args->align, "Alignment: se3, sim3 (monocular) or none")
-      ->check(CLI::IsMember({"none", "se3", "sim3"}))
+  ate->add_option("--align", ate_args->align,
+                  "Alignment: se3, sim3 (monocular), posyaw (position + yaw about z: what "
+                  "visual-inertial odometry observes) or none")
+      ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
   ate->callback([ate_args, exit_code] { Guarded(RunAte, *ate_args, exit_code); });
 
@@ -463,6 +465,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"none", "se3", "sim3"}))
       ->capture_default_str();
   rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
+
+  AddEvalImu(eval_cmd, exit_code);
 }
 
 }  // namespace app

@@ -14,6 +14,7 @@ void RegisterBench(CLI::App& app, int* exit_code);           // cmd_bench.cc
 void RegisterSim(CLI::App& app, int* exit_code);             // cmd_sim.cc
 void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
 void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
+void AddEvalImu(CLI::App* eval_cmd, int* exit_code);         // cmd_eval_imu.cc, `eval imu`
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
 
 }  // namespace app

@@ -15,6 +15,8 @@ std::string AlignmentName(AlignmentMode mode) {
       return "se3";
     case AlignmentMode::kSim3:
       return "sim3";
+    case AlignmentMode::kPositionYaw:
+      return "posyaw";
   }
   return "unknown";
 }
@@ -23,6 +25,7 @@ std::optional<AlignmentMode> ParseAlignmentMode(const std::string& name) {
   if (name == "none") return AlignmentMode::kNone;
   if (name == "se3") return AlignmentMode::kSE3;
   if (name == "sim3") return AlignmentMode::kSim3;
+  if (name == "posyaw") return AlignmentMode::kPositionYaw;
   return std::nullopt;
 }
 
@@ -83,9 +86,52 @@ std::optional<UmeyamaDetails> Umeyama(const std::vector<Eigen::Vector3d>& source
 
 }  // namespace
 
+namespace {
+
+Eigen::Matrix3d RotationZ(double yaw) {
+  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// Position + yaw (see the header). Nullopt for empty or different sizes.
+std::optional<Similarity> PositionYaw(const std::vector<SE3d>& est, const std::vector<SE3d>& gt) {
+  if (est.empty() || est.size() != gt.size()) return std::nullopt;
+  Eigen::Vector3d mu_e = Eigen::Vector3d::Zero(), mu_g = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    mu_e += est[i].translation() / static_cast<double>(est.size());
+    mu_g += gt[i].translation() / static_cast<double>(gt.size());
+  }
+  double a = 0.0, b = 0.0, spread = 0.0;
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    const Eigen::Vector3d e = est[i].translation() - mu_e, g = gt[i].translation() - mu_g;
+    a += e.x() * g.x() + e.y() * g.y();
+    b += e.x() * g.y() - e.y() * g.x();
+    spread += e.head<2>().squaredNorm();
+  }
+  if (!(spread > 1e-12 * static_cast<double>(est.size()))) {
+    // No horizontal extent: the yaw that best agrees with the orientations.
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    for (std::size_t i = 0; i < est.size(); ++i)
+      A += est[i].RotationMatrix() * gt[i].RotationMatrix().transpose();
+    a = A(0, 0) + A(1, 1);
+    b = A(0, 1) - A(1, 0);
+  }
+  Similarity S;
+  S.R = RotationZ(std::atan2(b, a));
+  S.t = mu_g - S.R * mu_e;
+  return S;
+}
+
+}  // namespace
+
 std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& source,
                                            const std::vector<Eigen::Vector3d>& target,
                                            AlignmentMode mode) {
+  if (mode == AlignmentMode::kPositionYaw) {
+    std::vector<SE3d> e, g;
+    for (const Eigen::Vector3d& p : source) e.emplace_back(Eigen::Quaterniond::Identity(), p);
+    for (const Eigen::Vector3d& p : target) g.emplace_back(Eigen::Quaterniond::Identity(), p);
+    return PositionYaw(e, g);
+  }
   const std::optional<UmeyamaDetails> d = Umeyama(source, target, mode);
   if (!d) return std::nullopt;
   return d->S;
@@ -94,6 +140,11 @@ std::optional<Similarity> UmeyamaAlignment(const std::vector<Eigen::Vector3d>& s
 std::optional<TrajectoryAlignment> AlignTrajectory(const std::vector<SE3d>& est,
                                                    const std::vector<SE3d>& gt,
                                                    AlignmentMode mode) {
+  if (mode == AlignmentMode::kPositionYaw) {
+    const std::optional<Similarity> S = PositionYaw(est, gt);
+    if (!S) return std::nullopt;
+    return TrajectoryAlignment{*S, false};
+  }
   const std::optional<UmeyamaDetails> d = Umeyama(Positions(est), Positions(gt), mode);
   if (!d) return std::nullopt;
   TrajectoryAlignment a;

@@ -20,9 +20,14 @@
 namespace plucker {
 namespace eval {
 
-enum class AlignmentMode { kNone, kSE3, kSim3 };
+// kPositionYaw: translation and a rotation about the world z axis only (4 degrees of freedom),
+// what visual-inertial odometry can observe in a gravity-aligned (z up) world:
+//   yaw = atan2(sum (e_x g_y - e_y g_x), sum (e_x g_x + e_y g_y)) over the centred positions e
+//   (estimate) and g (ground truth), t = mu_g - Rz(yaw) mu_e. When the positions have no
+//   horizontal extent, the yaw that best agrees with the orientations is used instead.
+enum class AlignmentMode { kNone, kSE3, kSim3, kPositionYaw };
 
-std::string AlignmentName(AlignmentMode mode);  // "none", "se3", "sim3"
+std::string AlignmentName(AlignmentMode mode);  // "none", "se3", "sim3", "posyaw"
 std::optional<AlignmentMode> ParseAlignmentMode(const std::string& name);
 
 // p_target = scale * R * p_source + t.

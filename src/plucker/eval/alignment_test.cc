@@ -167,6 +167,61 @@ TEST(Umeyama, ModeNames) {
   EXPECT_FALSE(ParseAlignmentMode("sim(3)").has_value());
 }
 
+// Position + yaw: recovers a yaw and a translation exactly, and leaves a tilt (roll/pitch, which
+// VIO observes through gravity) in the error, where SE(3) would absorb it.
+TEST(PositionYaw, RecoversYawAndTranslationAndKeepsTilt) {
+  verify::Rng rng(21);
+  int trials = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    std::vector<SE3d> est, gt;
+    const double yaw = verify::Uniform(rng, -M_PI, M_PI);
+    const Eigen::Matrix3d Rz = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d t = verify::RandomVector(rng, 50.0);
+    for (int i = 0; i < 40; ++i) {
+      est.push_back(verify::RandomPose(rng, 10.0));
+      gt.emplace_back(Eigen::Matrix3d(Rz * est.back().RotationMatrix()),
+                      Rz * est.back().translation() + t);
+    }
+    const std::optional<TrajectoryAlignment> a =
+        AlignTrajectory(est, gt, AlignmentMode::kPositionYaw);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_LT((a->S.R - Rz).norm(), 1e-9);
+    EXPECT_LT((a->S.t - t).norm(), 1e-8);
+    EXPECT_EQ(a->S.scale, 1.0);
+    // A tilted copy: posyaw cannot remove the tilt, SE(3) can.
+    const Eigen::Matrix3d tilt =
+        Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    std::vector<SE3d> tilted;
+    for (const SE3d& T : gt)
+      tilted.emplace_back(Eigen::Matrix3d(tilt * T.RotationMatrix()), tilt * T.translation());
+    const auto py = AlignTrajectory(est, tilted, AlignmentMode::kPositionYaw);
+    const auto se3 = AlignTrajectory(est, tilted, AlignmentMode::kSE3);
+    ASSERT_TRUE(py && se3);
+    EXPECT_LT(MaxResidual(se3->S, Positions(est), Positions(tilted)), 1e-8);
+    EXPECT_GT(MaxResidual(py->S, Positions(est), Positions(tilted)), 0.1);
+    ++trials;
+  }
+  EXPECT_EQ(trials, 30);
+  EXPECT_EQ(AlignmentName(AlignmentMode::kPositionYaw), "posyaw");
+  EXPECT_EQ(*ParseAlignmentMode("posyaw"), AlignmentMode::kPositionYaw);
+}
+
+// A purely vertical motion has no horizontal extent: the yaw comes from the orientations.
+TEST(PositionYaw, VerticalMotionTakesTheYawFromTheOrientations) {
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<SE3d> est, gt;
+  for (int i = 0; i < 10; ++i) {
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d(0.3, 0.2, 1).normalized()).toRotationMatrix();
+    est.emplace_back(R, Eigen::Vector3d(0, 0, i));
+    gt.emplace_back(Eigen::Matrix3d(Rz * R), Eigen::Vector3d(1, 2, i + 3));
+  }
+  const auto a = AlignTrajectory(est, gt, AlignmentMode::kPositionYaw);
+  ASSERT_TRUE(a.has_value());
+  EXPECT_LT((a->S.R - Rz).norm(), 1e-9);
+  EXPECT_FALSE(AlignTrajectory(est, {}, AlignmentMode::kPositionYaw).has_value());
+}
+
 }  // namespace
 }  // namespace eval
 }  // namespace plucker

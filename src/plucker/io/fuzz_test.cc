@@ -5,7 +5,8 @@
 
 #include <random>
 
-#include "kitti_bin_fuzz.cc"  // NOLINT(build/include): the fuzz targets are not in the library
+#include "euroc_fuzz.cc"      // NOLINT(build/include): the fuzz targets are not in the library
+#include "kitti_bin_fuzz.cc"  // NOLINT(build/include)
 #include "pcd_fuzz.cc"        // NOLINT(build/include)
 #include "pose_fuzz.cc"       // NOLINT(build/include)
 
@@ -47,6 +48,13 @@ TEST(FuzzTargets, SeedsParse) {
 TEST(FuzzTargets, KittiBin) { RunCorpus(&KittiBinOneInput, KittiBinSeeds(), 4000, 1); }
 TEST(FuzzTargets, Pcd) { RunCorpus(&PcdOneInput, PcdSeeds(), 4000, 2); }
 TEST(FuzzTargets, Pose) { RunCorpus(&PoseOneInput, PoseSeeds(), 3000, 3); }
+TEST(FuzzTargets, Euroc) {
+  const std::vector<std::string> seeds = EurocSeeds();
+  EXPECT_EQ(ParseEurocImuCsv(seeds[0], "seed", 0).size(), 2u);
+  EXPECT_EQ(ParseEurocGroundTruthCsv(seeds[1], "seed", 0).size(), 1u);
+  EXPECT_EQ(ParseEurocImuYaml(seeds[2], "seed").rate_hz, 200.0);
+  RunCorpus(&EurocOneInput, seeds, 3000, 4);
+}
 
 }  // namespace
 }  // namespace fuzz

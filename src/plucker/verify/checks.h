@@ -14,6 +14,8 @@ std::vector<NamedJacobianCheck> ProjectionJacobianChecks();   // projection_chec
 std::vector<NamedJacobianCheck> LidarFactorJacobianChecks();  // lidar_factor_checks.cc
 std::vector<NamedJacobianCheck> PointFactorJacobianChecks();  // point_factor_checks.cc
 std::vector<NamedJacobianCheck> LineFactorJacobianChecks();   // line_factor_checks.cc
+std::vector<NamedJacobianCheck> ImuFactorJacobianChecks();    // imu_factor_checks.cc
+std::vector<NamedJacobianCheck> MarginalizationJacobianChecks();  // marginalization_checks.cc
 
 }  // namespace verify
 }  // namespace plucker

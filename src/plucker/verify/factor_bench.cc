@@ -5,11 +5,13 @@
 
 #include <limits>
 
+#include "plucker/factors/imu_factor.h"
 #include "plucker/factors/lidar_factors.h"
 #include "plucker/factors/line_reprojection_factor.h"
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/geometry/orthonormal_line.h"
 #include "plucker/geometry/plucker_line.h"
+#include "plucker/verify/imu_factor_sample.h"
 #include "plucker/verify/lidar_comparison_factors.h"
 #include "plucker/verify/random_geometry.h"
 
@@ -143,6 +145,25 @@ FactorBenchCase LineCase(Rng& rng, bool vi) {
 }
 
 // ns per evaluation of one version: best of `rounds` rounds (the machine may be shared).
+FactorBenchCase ImuCase(Rng& rng) {
+  FactorBenchCase c;
+  c.name = "ImuPreintegration";
+  c.flops_estimate = 8000.0;  // mostly whitening: 15x9 by 9x(6+3+6+6+3) multiply-adds
+  c.target_ratio = 2.0;
+  for (int i = 0; i < kFactorBenchInputs; ++i) {
+    const ImuFactorSample s = MakeImuFactorSample(rng, 6 + i);
+    c.analytic.emplace_back(ImuFactor::Create(s.preintegration, kImuSampleGravity));
+    c.autodiff.emplace_back(ImuFactor::CreateAutoDiff(s.preintegration, kImuSampleGravity));
+    c.parameters.push_back({PoseBlock(s.T_w_b_i),
+                            {s.v_i.data(), s.v_i.data() + 3},
+                            {s.bias_i.data(), s.bias_i.data() + 6},
+                            PoseBlock(s.T_w_b_j),
+                            {s.v_j.data(), s.v_j.data() + 3},
+                            {s.bias_j.data(), s.bias_j.data() + 6}});
+  }
+  return c;
+}
+
 double TimeCase(const FactorBenchCase& c, bool analytic, int evaluations) {
   FactorBenchBuffers buffers(*c.analytic.front());
   const int n = static_cast<int>(c.parameters.size());
@@ -196,14 +217,16 @@ std::vector<FactorBenchCase> MakeFactorBenchCases(std::uint64_t seed) {
   cases.push_back(PointCase(rng, true));
   cases.push_back(LineCase(rng, false));
   cases.push_back(LineCase(rng, true));
+  cases.push_back(ImuCase(rng));
   return cases;
 }
 
 bool EvaluateFactorBenchCase(const FactorBenchCase& c, bool analytic, int index,
                              FactorBenchBuffers* buffers) {
   const auto& blocks = c.parameters[index];
-  const double* params[4] = {nullptr, nullptr, nullptr, nullptr};
-  for (size_t b = 0; b < blocks.size() && b < 4; ++b) params[b] = blocks[b].data();
+  constexpr size_t kMaxBlocks = 6;  // the IMU factor's
+  const double* params[kMaxBlocks] = {};
+  for (size_t b = 0; b < blocks.size() && b < kMaxBlocks; ++b) params[b] = blocks[b].data();
   const ceres::CostFunction& f = analytic ? *c.analytic[index] : *c.autodiff[index];
   const bool ok = f.Evaluate(params, buffers->residuals(), buffers->jacobians());
   return ok;

@@ -54,7 +54,8 @@ class FactorBenchBuffers {
 };
 
 // The benchmarked factors: PointToPlane, PointToEdge, PointToEdge2, PointToEdgeScalar,
-// PointReprojection, PointReprojectionVI, LineReprojection, LineReprojectionVI (in that order).
+// PointReprojection, PointReprojectionVI, LineReprojection, LineReprojectionVI,
+// ImuPreintegration (in that order).
 std::vector<FactorBenchCase> MakeFactorBenchCases(std::uint64_t seed);
 
 // Evaluates input `index` of the case once (analytic or autodiff). Returns false if Evaluate did.

@@ -10,7 +10,7 @@ namespace {
 
 TEST(FactorBench, EveryInputEvaluatesWithBothVersions) {
   const std::vector<FactorBenchCase> cases = MakeFactorBenchCases(3);
-  ASSERT_EQ(cases.size(), 8u);
+  ASSERT_EQ(cases.size(), 9u);
   for (const FactorBenchCase& c : cases) {
     ASSERT_EQ(c.analytic.size(), static_cast<size_t>(kFactorBenchInputs)) << c.name;
     ASSERT_EQ(c.autodiff.size(), c.analytic.size()) << c.name;
@@ -27,7 +27,7 @@ TEST(FactorBench, EveryInputEvaluatesWithBothVersions) {
 TEST(FactorBench, ReturnsOneFiniteRowPerFactor) {
   // A smoke test only: performance targets are reported by `plucker bench factors`, not asserted.
   const std::vector<FactorBenchRow> rows = BenchmarkFactors(500, 4);
-  ASSERT_EQ(rows.size(), 8u);
+  ASSERT_EQ(rows.size(), 9u);
   for (const FactorBenchRow& r : rows) {
     EXPECT_FALSE(r.name.empty());
     EXPECT_GT(r.analytic_ns, 0.0) << r.name;

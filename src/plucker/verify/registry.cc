@@ -20,6 +20,8 @@ std::vector<NamedJacobianCheck> FactorJacobianChecks() {
   std::vector<NamedJacobianCheck> all = LineFactorJacobianChecks();
   Append(&all, PointFactorJacobianChecks());
   Append(&all, LidarFactorJacobianChecks());
+  Append(&all, ImuFactorJacobianChecks());
+  Append(&all, MarginalizationJacobianChecks());
   return all;
 }
 
