@@ -15,6 +15,7 @@ void RegisterSim(CLI::App& app, int* exit_code);             // cmd_sim.cc
 void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
 void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
+void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
 
 }  // namespace app
 }  // namespace plucker
