@@ -1,10 +1,12 @@
 #include "plucker/io/camera_calibration.h"
+#include "plucker/io/fuzz_util.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 namespace plucker {
 namespace io {
@@ -273,6 +275,35 @@ TEST(EurocCalibration, BadInput) {
   EXPECT_EQ(cases.size(), 21u);
   const std::string empty = Write("empty.yaml", "");
   ExpectError([&] { ReadEurocCamera(empty); }, empty, "not a YAML map");
+}
+
+// Random mutations of valid files (io/fuzz_util.h): every reader either returns a valid camera
+// (finite, positive focal lengths) or throws IoError; nothing else escapes, nothing crashes.
+TEST(CameraCalibration, MutatedFilesGiveAValidCameraOrIoError) {
+  std::mt19937_64 rng(11);
+  const std::vector<std::pair<std::string, std::string>> seeds = {
+      {"kitti", kKittiCalib}, {"strecha", kStrechaCamera}, {"euroc", kEurocYaml}};
+  int accepted = 0, rejected = 0;
+  for (int k = 0; k < 1500; ++k) {
+    const auto& [kind, seed] = seeds[k % seeds.size()];
+    std::string text = seed;
+    const int depth = 1 + static_cast<int>(rng() % 4);
+    for (int d = 0; d < depth; ++d) text = fuzz::Mutate(text, rng);
+    const std::string path = Write("mutated_" + kind, text);
+    try {
+      sensor::Camera camera;
+      if (kind == "kitti") camera = ReadKittiCalibration(path, 100, 50).camera;
+      if (kind == "strecha") camera = ReadStrechaCamera(path).camera;
+      if (kind == "euroc") camera = ReadEurocCamera(path).camera;
+      EXPECT_TRUE(camera.IsValid()) << kind << ": " << camera.Problem() << "\n" << text;
+      ++accepted;
+    } catch (const IoError& e) {
+      EXPECT_EQ(e.path(), path);
+      ++rejected;
+    }
+  }
+  EXPECT_GT(accepted, 100);
+  EXPECT_GT(rejected, 300);
 }
 
 }  // namespace
