@@ -104,5 +104,25 @@ expect sim-camera 0 "" -- "$PLUCKER" sim camera --out "$T/cam" --scene room --fr
 expect demo-camera 0 "after" -- "$PLUCKER" demo --no-lidar --frames 8 --out "$T/demo"
 expect demo-files 0 "" -- test -s "$T/demo/camera/poses_ba.txt"
 
+# Strecha ground truth as KITTI poses T_w_c (the real files when the shared data is there).
+STRECHA="$(dirname "$0")/../../shared/data/strecha-fountain-p11/cameras"
+if [ -d "$STRECHA" ]; then
+  expect convert-strecha 0 "wrote 11 poses" -- \
+    "$PLUCKER" convert strecha --cameras "$STRECHA" --out "$T/strecha_gt.txt"
+  expect convert-strecha-rows 0 "^11$" -- bash -c "wc -l < '$T/strecha_gt.txt'"
+  expect convert-strecha-centre 0 "^-7.28137 -7.57667 0.204446$" -- \
+    awk 'NR == 1 { print $4, $8, $12 }' "$T/strecha_gt.txt"
+  expect convert-strecha-eval 0 "" -- \
+    "$PLUCKER" eval ate --gt "$T/strecha_gt.txt" --est "$T/strecha_gt.txt" --align sim3
+else
+  echo "skip convert-strecha: no shared data at $STRECHA"
+fi
+mkdir -p "$T/badcam" "$T/nocam"
+printf '1 0 0\n0 1 x\n' > "$T/badcam/0000.jpg.camera"
+expect convert-strecha-bad-file nonzero "0000.jpg.camera: .*not a number: 'x'" -- \
+  "$PLUCKER" convert strecha --cameras "$T/badcam" --out "$T/x_gt.txt"
+expect convert-strecha-empty-folder nonzero "nocam: no \*\.camera files" -- \
+  "$PLUCKER" convert strecha --cameras "$T/nocam" --out "$T/x_gt.txt"
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -16,6 +16,7 @@ void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
 void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
 void AddEvalImu(CLI::App* eval_cmd, int* exit_code);         // cmd_eval_imu.cc, `eval imu`
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
+void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
 
 }  // namespace app
 }  // namespace plucker

@@ -1,0 +1,86 @@
+// Point tracks over an image sequence (KLT): for every new frame,
+//   1. track: pyramidal Lucas-Kanade flow of every live track from the previous frame
+//      (cv::calcOpticalFlowPyrLK), and back again; a track survives when both directions
+//      converge, the round trip returns within max_forward_backward_px and it stays inside the
+//      image;
+//   2. verify: RANSAC on the essential matrix (given the pinhole K; the images must be
+//      undistorted, vision/undistort.h) or, without K, the fundamental matrix; epipolar
+//      outliers end their track;
+//   3. detect: new Shi-Tomasi corners (cv::goodFeaturesToTrack) away from the surviving tracks
+//      (min_distance_px), up to target_count live tracks, each with a new track id.
+// Track ids are never reused. Output: the frame's observations as sensor::PointObservation
+// (point_id = track id), the form the simulator and the estimators use, with statistics.
+// No I/O, no timing (the caller times it).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "plucker/geometry/camera.h"
+#include "plucker/sensor/camera_observations.h"
+
+namespace plucker {
+namespace vision {
+
+struct PointTrackerOptions {
+  int target_count = 400;                 // live tracks kept after re-detection
+  double min_distance_px = 12.0;          // between corners (new ones and live tracks)
+  double quality_level = 0.01;            // goodFeaturesToTrack: relative corner strength
+  int block_size = 3;                     // goodFeaturesToTrack: corner window
+  int border_px = 8;                      // no corners or tracks closer to the image border
+  int window_px = 11;                     // KLT window (square)
+  int pyramid_levels = 4;                 // KLT pyramid levels above the image
+  double max_forward_backward_px = 0.25;  // forward-backward round-trip error accepted
+  double ransac_threshold_px = 1.0;       // epipolar distance of a RANSAC inlier
+  double ransac_confidence = 0.999;
+  int min_ransac_points = 8;  // fewer tracked points: no RANSAC (stats.ransac_run false)
+};
+
+struct PointTrackerStats {
+  int previous = 0;     // live tracks entering the frame
+  int flow_failed = 0;  // KLT lost or left the image
+  int forward_backward_failed = 0;
+  int ransac_outliers = 0;
+  bool ransac_run = false;
+  int tracked = 0;   // survivors (continued tracks)
+  int detected = 0;  // new tracks
+  int live() const { return tracked + detected; }
+};
+
+struct PointTrackerFrame {
+  int frame = 0;                                       // 0-based index of Track() calls
+  std::vector<sensor::PointObservation> observations;  // continued tracks first, then new ones
+  PointTrackerStats stats;
+};
+
+class PointTracker {
+ public:
+  // K: the pinhole of the (undistorted) images, for RANSAC on the essential matrix; without
+  // it the fundamental matrix is used. Throws std::invalid_argument for invalid options or K.
+  explicit PointTracker(const PointTrackerOptions& options = {},
+                        const std::optional<PinholeIntrinsics>& K = std::nullopt);
+
+  // Tracks into the next frame (8-bit grayscale, the size of the first frame). Throws
+  // std::invalid_argument for an empty image, another type or another size.
+  PointTrackerFrame Track(const cv::Mat& image);
+
+  int next_track_id() const { return next_id_; }
+
+ private:
+  void FlowAndCheck(const cv::Mat& image, PointTrackerFrame* out);
+  void RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points, PointTrackerFrame* out);
+  void Detect(const cv::Mat& image, PointTrackerFrame* out);
+
+  PointTrackerOptions options_;
+  std::optional<PinholeIntrinsics> K_;
+  cv::Mat previous_;
+  std::vector<cv::Point2f> points_;  // live tracks in the previous frame
+  std::vector<int> ids_;             // their track ids
+  int next_id_ = 0;
+  int frame_ = 0;
+};
+
+}  // namespace vision
+}  // namespace plucker
