@@ -45,15 +45,6 @@ Eigen::Vector3i Flags(const Eigen::Vector3d& ratios, const Eigen::Vector3d& info
 
 }  // namespace
 
-double RotationThreshold(double threshold) { return threshold / 3.0; }
-
-DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows, double threshold) {
-  DegeneracyCriterion criterion;
-  criterion.translation_ratio = threshold;
-  criterion.rotation_ratio = RotationThreshold(threshold);
-  return AnalyseDegeneracy(H, rows, criterion);
-}
-
 DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows,
                                  const DegeneracyCriterion& criterion) {
   DegeneracyInfo info;
@@ -94,19 +85,13 @@ DegeneracyInfo AnalyseDegeneracy(const Matrix6d& H, int rows,
 SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const DegeneracyInfo& info) {
   if (!info.degenerate) return T_solution;
   // The flagged directions as constraints C^T delta = 0.
-  Eigen::Matrix<double, 6, Eigen::Dynamic> C(6, 6);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> C = Eigen::Matrix<double, 6, 6>::Zero();
   int k = 0;
-  for (int i = 0; i < 3; ++i) {
-    if (info.rotation_flags(i)) {
-      C.col(k).setZero();
-      C.col(k++).head<3>() = info.rotation_directions.col(i);
-    }
-  }
-  for (int i = 0; i < 3; ++i) {
-    if (info.translation_flags(i)) {
-      C.col(k).setZero();
-      C.col(k++).tail<3>() = info.translation_directions.col(i);
-    }
+  for (int i = 0; i < 6; ++i) {  // rotations (dtheta) first, then translations (dt)
+    const bool rotation = i < 3;
+    if (!(rotation ? info.rotation_flags : info.translation_flags)(i % 3)) continue;
+    C.col(k++).segment<3>(rotation ? 0 : 3) =
+        (rotation ? info.rotation_directions : info.translation_directions).col(i % 3);
   }
   if (k == 0) return T_solution;
   if (k == 6) return T_prior;

@@ -29,11 +29,17 @@ struct Rows {
     residuals.emplace_back(PointToEdgeFactor::CreateFromDirection(p_s, T_w_s * p_s, u_w, sigma));
     rows += 2;
   }
-  template <typename Criterion>
-  DegeneracyInfo Analyse(const Criterion& criterion) const {
+  DegeneracyInfo Analyse(const DegeneracyCriterion& criterion) const {
     NormalEquations eq;
     EXPECT_TRUE(EvaluateNormalEquations(residuals, nullptr, T_w_s, &eq));
     return AnalyseDegeneracy(eq.H, rows, criterion);
+  }
+  // Ratios only (no ceilings): `threshold` for translations, threshold / 3 for rotations.
+  DegeneracyInfo Analyse(double threshold) const {
+    DegeneracyCriterion criterion;
+    criterion.translation_ratio = threshold;
+    criterion.rotation_ratio = threshold / 3.0;
+    return Analyse(criterion);
   }
 };
 
@@ -305,7 +311,7 @@ TEST(DegeneracyTest, RemappingIsTheConstrainedMinimiserOfTheQuadraticModel) {
 TEST(DegeneracyTest, NonFiniteInputFlagsEverythingAndKeepsThePrior) {
   Matrix6d H = Matrix6d::Identity();
   H(0, 1) = NAN;
-  const DegeneracyInfo info = AnalyseDegeneracy(H, 10, 0.03);
+  const DegeneracyInfo info = AnalyseDegeneracy(H, 10, DegeneracyCriterion());
   EXPECT_TRUE(info.degenerate);
   EXPECT_EQ(info.num_degenerate_directions, 6);
   const SE3d prior(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 2, 3));

@@ -3,13 +3,14 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tsl/robin_set.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "plucker/geometry/fast_atan2.h"
-#include "plucker/lidar/voxel_key.h"
+#include "plucker/lidar/voxel_map.h"
 
 namespace plucker {
 namespace lidar {
@@ -26,29 +27,24 @@ struct Ring {
 
 // Relative time of a ring point from its azimuth: the fraction of a revolution swept since the
 // ring's first point, in the ring's rotation direction.
-class AzimuthClock {
- public:
-  AzimuthClock(const Ring& ring, double period) : period_(period), n_(ring.p.size()) {
-    start_ = FastAtan2(ring.p[0].y(), ring.p[0].x());
-    const std::size_t quarter = std::max<std::size_t>(1, n_ / 4);
-    const double a = FastAtan2(ring.p[quarter].y(), ring.p[quarter].x());
-    direction_ = Wrap(a - start_) >= 0.0 ? 1.0 : -1.0;
+struct AzimuthClock {
+  AzimuthClock(const Ring& ring, double period)
+      : period(period), n(ring.p.size()), start(Azimuth(ring.p[0])) {
+    direction = Wrap(Azimuth(ring.p[std::max<std::size_t>(1, n / 4)]) - start) >= 0.0 ? 1.0 : -1.0;
   }
   double operator()(const Eigen::Vector3d& p, std::size_t index) const {
-    double swept = Wrap(direction_ * (FastAtan2(p.y(), p.x()) - start_));
+    double swept = Wrap(direction * (Azimuth(p) - start));
     if (swept < 0.0) swept += 2.0 * M_PI;
     // Near the end of the ring a sweep slightly past 2 pi wraps to ~0: use the index to tell.
-    if (index > n_ / 2 && swept < 0.5 * M_PI) swept = 2.0 * M_PI;
-    if (index < n_ / 2 && swept > 1.5 * M_PI) swept = 0.0;
-    return period_ * swept / (2.0 * M_PI);
+    if (index > n / 2 && swept < 0.5 * M_PI) swept = 2.0 * M_PI;
+    if (index < n / 2 && swept > 1.5 * M_PI) swept = 0.0;
+    return period * swept / (2.0 * M_PI);
   }
-
- private:
+  static double Azimuth(const Eigen::Vector3d& p) { return FastAtan2(p.y(), p.x()); }
   static double Wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
-  double period_;
-  std::size_t n_;
-  double start_ = 0.0;
-  double direction_ = 1.0;
+  double period;
+  std::size_t n;
+  double start, direction = 1.0;
 };
 
 // The features of one ring (its valid points in firing order).
@@ -111,20 +107,12 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   for (int i = k; i < n - k - 1; ++i) {
     const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
     const double jump = std::abs(d1 - d2) / std::min(d1, d2);
-    if (jump > o.occlusion_depth_jump) {
-      const double gap = (ring.p[i + 1] / d2 - ring.p[i] / d1).norm();  // angle, radians
-      if (gap < o.occlusion_max_gap / std::min(d1, d2)) {
-        if (d1 > d2) {  // i is on the farther surface: i-k+1..i may be occluded
-          for (int l = 0; l < k; ++l) {
-            if (!picked[i - l]) ++out->occluded_rejected;
-            picked[i - l] = 2;
-          }
-        } else {
-          for (int l = 1; l <= k; ++l) {
-            if (!picked[i + l]) ++out->occluded_rejected;
-            picked[i + l] = 2;
-          }
-        }
+    if (jump > o.occlusion_depth_jump &&  // and the points are angularly adjacent:
+        (ring.p[i + 1] / d2 - ring.p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
+      // The k points on the farther surface next to the jump may be occluded.
+      for (int j = d1 > d2 ? i - k + 1 : i + 1, l = 0; l < k; ++j, ++l) {
+        if (!picked[j]) ++out->occluded_rejected;
+        picked[j] = 2;
       }
     }
     const double prev_sq = (ring.p[i] - ring.p[i - 1]).squaredNorm();
@@ -164,12 +152,8 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       if (picked[i]) continue;
       ++count;
       if (count > o.max_edges_per_sector) break;
-      if (count <= o.max_sharp_per_sector) {
-        out->sharp.push_back(ring.p[i]);
-        label[i] = 2;
-      } else {
-        label[i] = 1;
-      }
+      if (count <= o.max_sharp_per_sector) out->sharp.push_back(ring.p[i]);
+      label[i] = 1;
       out->edges.push_back(ring.p[i]);
       if (times) out->edge_times.push_back(time_of(i));
       picked[i] = 1;
@@ -211,43 +195,8 @@ void Append(const std::vector<T>& from, std::vector<T>* to) {
   to->insert(to->end(), from.begin(), from.end());
 }
 
-// The set of voxel keys seen by one downsampling: open addressing with linear probing, at most
-// half full. A slot is occupied when its stamp equals the current pass, so starting a new pass
-// clears the whole set at once and the table is reused from scan to scan.
-class VoxelSet {
- public:
-  // Starts a pass for up to n keys.
-  void Reset(std::size_t n) {
-    if (2 * n > keys_.size()) {
-      std::size_t size = 64;
-      while (size < 2 * n) size *= 2;
-      keys_.assign(size, 0);
-      stamps_.assign(size, 0);
-      pass_ = 0;
-    }
-    if (++pass_ == 0) {  // the stamp wrapped around: clear once
-      std::fill(stamps_.begin(), stamps_.end(), 0);
-      pass_ = 1;
-    }
-  }
-  // True when `key` was not in the set (it is now).
-  bool Insert(std::uint64_t key) {
-    const std::size_t mask = keys_.size() - 1;
-    for (std::size_t i = VoxelKeyHash()(key) & mask;; i = (i + 1) & mask) {
-      if (stamps_[i] != pass_) {
-        stamps_[i] = pass_;
-        keys_[i] = key;
-        return true;
-      }
-      if (keys_[i] == key) return false;
-    }
-  }
-
- private:
-  std::vector<std::uint64_t> keys_;
-  std::vector<std::uint32_t> stamps_;
-  std::uint32_t pass_ = 0;
-};
+// The voxel keys seen by one downsampling (cleared per call, its buckets reused).
+using VoxelSet = tsl::robin_set<std::uint64_t, VoxelKeyHash>;
 
 // VoxelDownsample with a caller-owned set (reused from call to call).
 void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points,
@@ -255,10 +204,11 @@ void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points
   if (voxel_size <= 0.0 || points->empty()) return;
   const bool with_times = times != nullptr && times->size() == points->size();
   const double inv = 1.0 / voxel_size;
-  seen->Reset(points->size());
+  seen->clear();
+  seen->reserve(points->size());
   std::size_t out = 0;
   for (std::size_t i = 0; i < points->size(); ++i) {
-    if (!seen->Insert(PackVoxel(VoxelOf((*points)[i], inv)))) continue;
+    if (!seen->insert(PackVoxel(VoxelOf((*points)[i], inv))).second) continue;
     (*points)[out] = (*points)[i];
     if (with_times) (*times)[out] = (*times)[i];
     ++out;
@@ -277,7 +227,6 @@ void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
 
 struct FeatureExtractor::Buffers {
   std::vector<Ring> rings;
-  std::vector<int> counts;
   std::vector<RingFeatures> per_ring;
   RingScratch scratch;                                          // one thread
   tbb::enumerable_thread_specific<RingScratch> thread_scratch;  // several
@@ -286,14 +235,6 @@ struct FeatureExtractor::Buffers {
 
 FeatureExtractor::FeatureExtractor() : buffers_(std::make_unique<Buffers>()) {}
 FeatureExtractor::~FeatureExtractor() = default;
-FeatureExtractor::FeatureExtractor(FeatureExtractor&&) noexcept = default;
-FeatureExtractor& FeatureExtractor::operator=(FeatureExtractor&&) noexcept = default;
-
-bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& o, ScanFeatures* features,
-                     std::string* error) {
-  FeatureExtractor extractor;
-  return extractor.Extract(scan, o, features, error);
-}
 
 bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
                                ScanFeatures* features, std::string* error) {
@@ -325,19 +266,10 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   }
   std::vector<Ring>& rings = buffers_->rings;
   if (static_cast<int>(rings.size()) < num_rings) rings.resize(num_rings);  // never shrinks
-  {
-    std::vector<int>& counts = buffers_->counts;
-    counts.assign(num_rings, 0);
-    for (int r : scan.ring)
-      if (r >= 0) ++counts[r];
-    for (int r = 0; r < num_rings; ++r) {
-      rings[r].p.clear();
-      rings[r].depth.clear();
-      rings[r].source.clear();
-      rings[r].p.reserve(counts[r]);
-      rings[r].depth.reserve(counts[r]);
-      if (has_time) rings[r].source.reserve(counts[r]);
-    }
+  for (int r = 0; r < num_rings; ++r) {  // cleared, keeping their capacity
+    rings[r].p.clear();
+    rings[r].depth.clear();
+    rings[r].source.clear();
   }
   const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
   for (std::size_t i = 0; i < scan.size(); ++i) {

@@ -71,23 +71,16 @@ struct ScanFeatures {
   FeatureStats stats;
 };
 
-// Extracts features. `scan.ring` must be filled (same size as points, 0..N-1; see
-// sensor/lidar_model.h to assign rings; ring -1 = unassigned, skipped) and points of a ring must be
-// in firing order. Returns false with `*error` set when the scan is unusable (no rings, mismatched
-// channel sizes, fewer than 2k+1 valid points on every ring). Non-finite points are skipped
-// (counted as invalid). The vectors of `*features` are refilled in place (their capacity reused).
-bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
-                     std::string* error);
-
-// ExtractFeatures for a stream of scans: keeps its working buffers (rings, curvature, per-ring
-// picks, the downsampling set) from one scan to the next, so that a long sequence does not
-// allocate and free megabytes per scan. Same results as ExtractFeatures.
+// Extracts the features of a stream of scans, keeping its working buffers from one scan to the
+// next (no megabytes allocated and freed per scan). `scan.ring` must be filled (0..N-1, -1 =
+// unassigned; sensor/lidar_model.h assigns rings) and a ring's points must be in firing order.
+// Extract returns false with `*error` set when the scan is unusable (no rings, mismatched channel
+// sizes, fewer than 2k+1 valid points on every ring); non-finite points are skipped (counted as
+// invalid). The vectors of `*features` are refilled in place (their capacity reused).
 class FeatureExtractor {
  public:
   FeatureExtractor();
   ~FeatureExtractor();
-  FeatureExtractor(FeatureExtractor&&) noexcept;
-  FeatureExtractor& operator=(FeatureExtractor&&) noexcept;
 
   bool Extract(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
                std::string* error);

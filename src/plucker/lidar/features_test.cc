@@ -12,6 +12,11 @@ namespace plucker {
 namespace lidar {
 namespace {
 
+bool ExtractFeatures(const LidarScan& scan, const FeatureOptions& options, ScanFeatures* features,
+                     std::string* error) {
+  return FeatureExtractor().Extract(scan, options, features, error);
+}
+
 // One horizontal ring (ring 0) sampled every `step_deg` of azimuth through `range_of(azimuth)`.
 template <typename F>
 LidarScan Ring(double step_deg, F range_of) {

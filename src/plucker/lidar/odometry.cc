@@ -32,28 +32,17 @@ struct EdgeMatch {
   Eigen::Vector3d p_s, a_w, u_w;
 };
 
-// Mean and covariance of a few points, eigen-decomposed (ascending eigenvalues).
-struct LocalFit {
-  Eigen::Vector3d mean;
-  Eigen::Vector3d eigenvalues;
-  Eigen::Matrix3d eigenvectors;
-};
-LocalFit Fit(const std::vector<Eigen::Vector3d>& pts) {
-  LocalFit fit;
-  fit.mean.setZero();
-  for (const auto& p : pts) fit.mean += p;
-  fit.mean /= static_cast<double>(pts.size());
+// The covariance of a few points about their mean, eigen-decomposed (ascending eigenvalues).
+Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Fit(const std::vector<Eigen::Vector3d>& pts,
+                                                   Eigen::Vector3d* mean) {
+  *mean = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) *mean += p;
+  *mean /= static_cast<double>(pts.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : pts) {
-    const Eigen::Vector3d d = p - fit.mean;
-    cov.noalias() += d * d.transpose();
-  }
-  cov /= static_cast<double>(pts.size());
+  for (const auto& p : pts) cov.noalias() += (p - *mean) * (p - *mean).transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(cov);
-  fit.eigenvalues = solver.eigenvalues();
-  fit.eigenvectors = solver.eigenvectors();
-  return fit;
+  solver.computeDirect(cov / static_cast<double>(pts.size()));
+  return solver;
 }
 
 // Every `stride`-th element so that at most `cap` remain (times alongside when present), in
@@ -156,19 +145,20 @@ class LidarOdometry::Impl {
     auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
                            PlaneMatch* match) {
       if (plane_map.KNearest(R_w_s * p_s + t_w_s, k, max_d, nb) < k) return false;
-      const LocalFit fit = Fit(*nb);
-      const Eigen::Vector3d m_w = fit.eigenvectors.col(0);
+      Eigen::Vector3d mean;
+      const Eigen::Vector3d m_w = Fit(*nb, &mean).eigenvectors().col(0);
       for (const auto& q_w : *nb)
-        if (std::abs(m_w.dot(q_w - fit.mean)) > o.plane_max_residual) return false;
-      *match = {p_s, m_w, fit.mean};
+        if (std::abs(m_w.dot(q_w - mean)) > o.plane_max_residual) return false;
+      *match = {p_s, m_w, mean};
       return true;
     };
     auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
                           EdgeMatch* match) {
       if (edge_map.KNearest(R_w_s * p_s + t_w_s, k, edge_max_d, nb) < k) return false;
-      const LocalFit fit = Fit(*nb);
-      if (fit.eigenvalues(2) <= o.edge_eigen_ratio * fit.eigenvalues(1)) return false;
-      *match = {p_s, fit.mean, fit.eigenvectors.col(2)};
+      Eigen::Vector3d mean;
+      const auto fit = Fit(*nb, &mean);
+      if (fit.eigenvalues()(2) <= o.edge_eigen_ratio * fit.eigenvalues()(1)) return false;
+      *match = {p_s, mean, fit.eigenvectors().col(2)};
       return true;
     };
     FindMatches(points_s.planes, match_plane, &planes);

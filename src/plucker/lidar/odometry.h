@@ -1,26 +1,21 @@
-// LOAM-style LiDAR odometry: features (lidar/features.h), optional deskew, scan-to-map
-// registration against a bounded local voxel map with the analytic point-to-edge and
-// point-to-plane factors (factors/lidar_factors.h) on the pose manifold, a robust loss, a
-// constant-velocity initial guess, a few re-association rounds, and degeneracy handling
-// (lidar/degeneracy.h). No file I/O, no clocks: scans in, poses and statistics out; the caller
-// times the stages through an optional StageObserver.
+// LOAM-style LiDAR odometry: features (lidar/features.h), scan-to-map registration against a
+// bounded local voxel map with the analytic point-to-edge and point-to-plane factors
+// (factors/lidar_factors.h), a robust loss, and degeneracy handling (lidar/degeneracy.h). No
+// file I/O, no clocks: scans in, poses and statistics out; the caller times the stages through
+// an optional StageObserver.
 //
-// ProcessScan, per scan: rings (kept from the scan, else from the firing order or the sensor's
-// elevation table) and features, then
+// ProcessScan, per scan (after rings and features):
 //   1. predict: T_w_s_pred = T_w_s_prev T_s_prev2_s_prev (constant velocity, PredictPose);
-//   2. deskew (scans with per-point time): the feature points are moved to the scan-start frame
-//      with the sweep motion T_s_prev_s = T_w_s_prev^-1 T_w_s of the current estimate T_w_s;
-//   3. register against the map, `association_rounds` times (up to max_association_rounds while
-//      the pose still moves by more than the convergence thresholds): re-deskew, find
-//      correspondences in the local maps (5 nearest neighbours; edge if the largest eigenvalue
-//      of their covariance exceeds edge_eigen_ratio times the middle one, plane if every
-//      neighbour lies within plane_max_residual of the fitted plane), solve (robust
-//      Levenberg-Marquardt on the pose, lidar/pose_solver.h), remap the solution along the
-//      degenerate directions of the solver's normal equations;
-//   4. update the map (UpdateLocalMap): the features enter the maps in the world frame; every
-//      map_cleanup_every frames voxels farther than max_distance are dropped. When deskewing,
-//      the first scan (no motion known yet) seeds the map raw and, once the second scan is
-//      registered, both are deskewed and the map rebuilt (odometry.cc: RebuildMapFromSeed).
+//   2. deskew (scans with per-point time): feature points to the scan-start frame with the sweep
+//      motion T_s_prev_s = T_w_s_prev^-1 T_w_s of the current estimate T_w_s;
+//   3. register, association_rounds times (up to max_association_rounds while the pose still
+//      moves more than the convergence thresholds): re-deskew, correspond (5 nearest map
+//      points: an edge if their covariance is elongated, a plane if all lie within
+//      plane_max_residual of their plane), solve (lidar/pose_solver.h), remap the solution
+//      along the degenerate directions of the solver's normal equations;
+//   4. update the map (UpdateLocalMap), dropping far voxels every map_cleanup_every frames. When
+//      deskewing, the first scan seeds the map raw; once the second is registered, both are
+//      deskewed and the map rebuilt (odometry.cc: RebuildMapFromSeed).
 #pragma once
 
 #include <functional>
@@ -72,15 +67,11 @@ struct LidarOdometryOptions {
   int max_edge_points = 1000;              // cap on edge points used per scan (stride sampling)
   int max_plane_points = 3000;             // cap on plane points used per scan
   int min_correspondences = 30;            // fewer -> the scan keeps the predicted pose
-  // Degeneracy (see degeneracy.h): a direction is flagged when its eigen-gap ratio is below the
-  // threshold of its block AND its information per residual row is below the ceiling of its
-  // block (corridors: <= 0.9; well-constrained urban frames with a dominant ground: >= 2.05,
-  // measured at the default sigmas). Rotation flags are off by default: in the simulated streets
-  // they flagged yaw that was well determined and the remapped poses drifted.
+  // Degeneracy (degeneracy.h; docs/math/lidar-odometry.md has the measurements). Rotation flags
+  // are off by default: in the simulated streets they flagged well-determined yaw.
   double degeneracy_threshold = 0.03;  // translation eigen-gap ratio
-  // Ceiling in units of plane_sigma^2: the mean squared component along the direction of the
-  // rows' (plane) normals, 0.00325 ~ (3.3 deg)^2; the criterion uses it / plane_sigma^2
-  // (1.3 at the default 5 cm), so it does not change with plane_sigma.
+  // Translation ceiling: the mean squared component of the rows' plane normals along the
+  // direction, 0.00325 ~ (3.3 deg)^2; the criterion uses it / plane_sigma^2 (1.3 at 5 cm).
   double degeneracy_max_normal_alignment = 0.00325;
   double degeneracy_rotation_threshold = 0.0;          // rotation eigen-gap ratio (0: off)
   double degeneracy_max_rotation_information = 1e300;  // m^2/sigma^2 per row

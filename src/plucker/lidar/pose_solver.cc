@@ -10,17 +10,18 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-constexpr int kMaxRows = 8;  // largest residual block of the LiDAR factors is 3
+constexpr int kMaxRows = 3;  // largest residual block of the LiDAR factors
 
-double Rho(const ceres::LossFunction* loss, double s, double* weight) {
-  if (loss == nullptr) {
-    *weight = 1.0;
-    return s;
-  }
-  double rho[3];
-  loss->Evaluate(s, rho);
-  *weight = rho[1];
-  return rho[0];
+using AmbientJacobian = Eigen::Matrix<double, kMaxRows, 7, Eigen::RowMajor>;
+using PlusJacobian = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
+
+// H += w J^T J and g += w J^T r for one residual block of kRows rows, J = J_ambient P (tangent).
+template <int kRows>
+void AddBlock(const AmbientJacobian& J_ambient, const PlusJacobian& P, const double* r, double w,
+              NormalEquations* eq) {
+  const Eigen::Matrix<double, kRows, 6> J = J_ambient.topRows<kRows>() * P;
+  eq->H.noalias() += (w * J.transpose()) * J;
+  eq->g.noalias() += (w * J.transpose()) * Eigen::Matrix<double, kRows, 1>::Map(r);
 }
 
 }  // namespace
@@ -32,24 +33,23 @@ bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFuncti
   double x[7];
   T_w_s.ToParameters(x);
   const double* parameters[1] = {x};
-  Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus_jacobian;
+  PlusJacobian plus_jacobian;
   const PoseManifold manifold;
   manifold.PlusJacobian(x, plus_jacobian.data());
-  Eigen::Matrix<double, kMaxRows, 7, Eigen::RowMajor> J_ambient;
+  AmbientJacobian J_ambient;
   double* jacobians[1] = {J_ambient.data()};
-  Eigen::Matrix<double, kMaxRows, 1> r;
+  double r[kMaxRows];
   double total = 0.0;
   for (const auto& f : residuals) {
     const int rows = f->num_residuals();
-    if (rows > kMaxRows) return false;
-    if (!f->Evaluate(parameters, r.data(), jacobians)) return false;
-    double w = 1.0;
-    total += Rho(loss, r.head(rows).squaredNorm(), &w);
-    // Tangent Jacobian (fixed-capacity storage: no allocation per residual).
-    const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxRows, 6> J =
-        J_ambient.topRows(rows) * plus_jacobian;
-    eq->H.noalias() += w * J.transpose() * J;
-    eq->g.noalias() += w * J.transpose() * r.head(rows);
+    if (rows > kMaxRows || !f->Evaluate(parameters, r, jacobians)) return false;
+    double rho[3] = {Eigen::VectorXd::Map(r, rows).squaredNorm(), 1.0, 0.0};  // rho(s) = s
+    if (loss != nullptr) loss->Evaluate(rho[0], rho);
+    total += rho[0];
+    const double w = rho[1];
+    if (rows == 1) AddBlock<1>(J_ambient, plus_jacobian, r, w, eq);
+    if (rows == 2) AddBlock<2>(J_ambient, plus_jacobian, r, w, eq);
+    if (rows == 3) AddBlock<3>(J_ambient, plus_jacobian, r, w, eq);
     eq->num_residuals += rows;
   }
   eq->cost = 0.5 * total;

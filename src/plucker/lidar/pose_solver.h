@@ -1,18 +1,13 @@
 // Robust Levenberg-Marquardt over one scan pose T_w_s, for scan-to-map registration.
 //
-// Minimises  F(T) = 1/2 sum_i rho(|r_i(T)|^2)  where each r_i is a ceres::CostFunction on the
-// 7-value pose block (the analytic LiDAR factors of factors/lidar_factors.h) and rho a
-// ceres::LossFunction (nullptr: rho(s) = s). Steps live in the tangent of the PoseManifold
-// (dtheta, dt): tangent Jacobians are J_ambient * PlusJacobian(x), and T <- Plus(T, dx).
-// Each iteration solves the iteratively reweighted normal equations
-//   (H + lambda diag(H)) dx = -g,  H = sum_i w_i J_i^T J_i,  g = sum_i w_i J_i^T r_i,  w_i =
-//   rho'(s_i)
-// and accepts the step when F decreases (lambda / 10), else retries with lambda * 10.
-//
-// Why not ceres::Solve: with one 6-dof block and a few thousand residuals, building a
-// ceres::Problem and running its generic machinery costs several milliseconds per scan; this loop
-// evaluates the same cost functions and reaches the same minimum (test:
-// PoseSolverTest.MatchesCeresSolve) in a fraction of the time.
+// Minimises F(T) = 1/2 sum_i rho(|r_i(T)|^2), each r_i a ceres::CostFunction of at most 3 rows on
+// the 7-value pose block (the analytic factors of factors/lidar_factors.h), rho a
+// ceres::LossFunction (nullptr: rho(s) = s). Steps live in the tangent of the PoseManifold:
+// J = J_ambient PlusJacobian(x), T <- Plus(T, dx). Each iteration solves the reweighted normal
+// equations (H + lambda diag(H)) dx = -g (H, g below) and accepts the step when F decreases
+// (lambda / 10), else retries with lambda * 10. Not ceres::Solve: for one 6-dof block and a few
+// thousand residuals its generic machinery costs several ms per scan; this loop evaluates the
+// same cost functions to the same minimum (PoseSolverTest.MatchesCeresSolve).
 #pragma once
 
 #include <ceres/cost_function.h>

@@ -83,21 +83,16 @@ int VoxelMap::AddPoints(const std::vector<Eigen::Vector3d>& points_w) {
 
 void VoxelMap::RemoveFar(const Eigen::Vector3d& origin_w) {
   const double max_sq = options_.max_distance * options_.max_distance;
-  constexpr std::int64_t kOffset = std::int64_t{1} << 20;
-  constexpr std::uint64_t kMask = (std::uint64_t{1} << 21) - 1;
   for (auto it = voxels_.begin(); it != voxels_.end();) {
-    const std::uint64_t key = it->first;
-    const Eigen::Vector3d centre(
-        (static_cast<double>(static_cast<std::int64_t>((key >> 42) & kMask) - kOffset) + 0.5),
-        (static_cast<double>(static_cast<std::int64_t>((key >> 21) & kMask) - kOffset) + 0.5),
-        (static_cast<double>(static_cast<std::int64_t>(key & kMask) - kOffset) + 0.5));
-    if ((centre * options_.voxel_size - origin_w).squaredNorm() > max_sq) {
-      num_points_ -= it->second.count;
-      free_slots_.push_back(it->second.slot);
-      it = voxels_.erase(it);
-    } else {
+    const Eigen::Vector3d centre_w =
+        (UnpackVoxel(it->first).cast<double>().array() + 0.5) * options_.voxel_size;
+    if ((centre_w - origin_w).squaredNorm() <= max_sq) {
       ++it;
+      continue;
     }
+    num_points_ -= it->second.count;
+    free_slots_.push_back(it->second.slot);
+    it = voxels_.erase(it);
   }
 }
 

@@ -7,25 +7,56 @@
 // Nearest neighbours: the query's voxel and its 26 neighbours are scanned, so every point within
 // `voxel_size` of the query is found (KNearest's max_distance must be <= voxel_size).
 //
-// Storage does not churn the heap: every voxel owns one fixed-capacity slot of
-// `max_points_per_voxel` points in a pool of blocks (~256 KB each) that only grows; the slots of
-// removed voxels are reused by new ones. On a long drive the map therefore stops allocating once
-// the kept region is full (a std::vector per voxel made and freed tens of thousands of small
-// blocks per cleanup, fragmenting the heap around the per-scan buffers). Memory is
-// 12 bytes * max_points_per_voxel per occupied voxel.
+// Storage does not churn the heap (a std::vector per voxel fragmented it on long drives): every
+// voxel owns a slot of max_points_per_voxel points (12 bytes each) in a pool of ~256 KB blocks
+// that only grows, and new voxels reuse the slots of removed ones.
 #pragma once
 
 #include <tsl/robin_map.h>
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-#include "plucker/lidar/voxel_key.h"
-
 namespace plucker {
 namespace lidar {
+
+// Integer voxel coordinates packed into one 64-bit hash key.
+// 21 bits per axis (offset binary): +-2^20 voxels per axis, e.g. +-1048 km at 1 m voxels.
+constexpr std::int64_t kVoxelOffset = std::int64_t{1} << 20;
+constexpr std::uint64_t kVoxelMask = (std::uint64_t{1} << 21) - 1;
+inline std::uint64_t PackVoxel(const Eigen::Vector3i& v) {
+  auto axis = [](int c) { return static_cast<std::uint64_t>(c + kVoxelOffset) & kVoxelMask; };
+  return (axis(v.x()) << 42) | (axis(v.y()) << 21) | axis(v.z());
+}
+inline Eigen::Vector3i UnpackVoxel(std::uint64_t key) {
+  auto axis = [&](int shift) {
+    return static_cast<int>(static_cast<std::int64_t>((key >> shift) & kVoxelMask) - kVoxelOffset);
+  };
+  return Eigen::Vector3i(axis(42), axis(21), axis(0));
+}
+
+// Voxel coordinates, clamped to the packable range (no overflow for absurd inputs).
+inline Eigen::Vector3i VoxelOf(const Eigen::Vector3d& p, double inv_size) {
+  constexpr double kLimit = 1048000.0;
+  auto cell = [&](double v) {
+    return static_cast<int>(std::clamp(std::floor(v * inv_size), -kLimit, kLimit));
+  };
+  return Eigen::Vector3i(cell(p.x()), cell(p.y()), cell(p.z()));
+}
+
+// A cheap mixing hash for the packed key (robin_map's std::hash<uint64_t> is the identity).
+struct VoxelKeyHash {
+  std::size_t operator()(std::uint64_t k) const {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return static_cast<std::size_t>(k);
+  }
+};
 
 struct VoxelMapOptions {
   double voxel_size = 1.0;          // m; also the largest neighbour search radius
