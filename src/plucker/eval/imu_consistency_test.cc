@@ -5,25 +5,11 @@
 #include <stdexcept>
 
 #include "plucker/sim/imu.h"
-#include "plucker/sim/trajectory.h"
+#include "plucker/sim/trajectory_test_utils.h"
 
 namespace plucker {
 namespace eval {
 namespace {
-
-sim::Trajectory TestTrajectory() {
-  auto signal = [](double offset, double rate, double a, double w, double phi) {
-    sim::SmoothSignal s;
-    s.offset = offset;
-    s.rate = rate;
-    s.terms = {{a, w, phi}, {0.3 * a, 2.7 * w, 2 * phi + 0.5}};
-    return s;
-  };
-  return sim::Trajectory({signal(0, 0.8, 1.0, 0.9, 0.1), signal(1, 0.1, 0.8, 1.1, 0.7),
-                          signal(1.5, 0.0, 0.3, 1.7, 1.3)},
-                         signal(0.2, 0.3, 0.6, 0.8, 0.4), signal(0, 0, 0.15, 1.3, 0.2),
-                         signal(0, 0, 0.1, 1.9, 0.9), 60.0);
-}
 
 struct Recording {
   std::vector<sensor::ImuSample> imu;
@@ -32,7 +18,7 @@ struct Recording {
 };
 
 Recording Simulate() {
-  const sim::Trajectory traj = TestTrajectory();
+  const sim::Trajectory traj = sim::ExcitingTestTrajectory(60.0);
   sim::ImuOptions o;  // noise like a MEMS unit (EuRoC's figures)
   o.initial_gyro_bias = Eigen::Vector3d(0.01, -0.02, 0.02);
   o.initial_accel_bias = Eigen::Vector3d(0.1, -0.05, 0.08);

@@ -8,8 +8,7 @@
 
 #include "plucker/factors/imu_factor.h"
 #include "plucker/geometry/so3.h"
-#include "plucker/sim/imu.h"
-#include "plucker/sim/trajectory.h"
+#include "plucker/sim/trajectory_test_utils.h"
 #include "plucker/verify/checks.h"
 
 namespace plucker {
@@ -17,20 +16,7 @@ namespace {
 
 const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
 
-// A smooth 3D motion with turns on every axis (about 1 m/s, up to ~1 rad/s).
-sim::Trajectory TestTrajectory() {
-  auto signal = [](double offset, double rate, double a, double w, double phi) {
-    sim::SmoothSignal s;
-    s.offset = offset;
-    s.rate = rate;
-    s.terms = {{a, w, phi}, {0.3 * a, 2.7 * w, 2 * phi + 0.5}};
-    return s;
-  };
-  return sim::Trajectory({signal(0, 0.8, 1.0, 0.9, 0.1), signal(1, 0.1, 0.8, 1.1, 0.7),
-                          signal(1.5, 0.0, 0.3, 1.7, 1.3)},
-                         signal(0.2, 0.3, 0.6, 0.8, 0.4), signal(0, 0, 0.15, 1.3, 0.2),
-                         signal(0, 0, 0.1, 1.9, 0.9), 10.0);
-}
+sim::Trajectory TestTrajectory() { return sim::ExcitingTestTrajectory(10.0); }
 
 NavState TruthAt(const sim::Trajectory& traj, double t) {
   return {traj.R_w_b(t), traj.position_w(t), traj.velocity_w(t)};
@@ -39,18 +25,12 @@ NavState TruthAt(const sim::Trajectory& traj, double t) {
 // Noise-free readings at rate_hz integrated over [t0, t0 + duration).
 ImuPreintegration Preintegrate(const sim::Trajectory& traj, double rate_hz, double t0,
                                double duration, const ImuBias& bias) {
-  sim::ImuOptions o;
-  o.model.rate_hz = rate_hz;
-  o.model.gyro_noise_density = o.model.accel_noise_density = 0.0;
-  o.model.gyro_bias_random_walk = o.model.accel_bias_random_walk = 0.0;
-  o.initial_gyro_bias = bias.gyro;
-  o.initial_accel_bias = bias.accel;
-  o.gravity_w = kGravity;
   ImuPreintegration p(bias, sensor::ImuModel());
   const double dt = 1.0 / rate_hz;
   const int first = static_cast<int>(std::lround(t0 * rate_hz));
   const int n = static_cast<int>(std::lround(duration * rate_hz));
-  const std::vector<sensor::ImuSample> samples = sim::SimulateImu(traj, o, 1);
+  const std::vector<sensor::ImuSample> samples =
+      sim::NoiseFreeImu(traj, rate_hz, bias.gyro, bias.accel, kGravity);
   for (int k = first; k < first + n; ++k) p.Integrate(dt, samples[k].gyro, samples[k].accel);
   return p;
 }
@@ -91,15 +71,9 @@ TEST(ImuPreintegration, SampleStreamConvergesAtSecondOrder) {
   const double t0 = 2.0, t1 = 3.0;
   double error[2];
   for (int r = 0; r < 2; ++r) {
-    sim::ImuOptions o;
-    o.model.rate_hz = r == 0 ? 100.0 : 500.0;
-    o.model.gyro_noise_density = o.model.accel_noise_density = 0.0;
-    o.model.gyro_bias_random_walk = o.model.accel_bias_random_walk = 0.0;
-    o.initial_gyro_bias = bias.gyro;
-    o.initial_accel_bias = bias.accel;
-    o.gravity_w = kGravity;
-    const ImuPreintegration p =
-        PreintegrateSamples(sim::SimulateImu(traj, o, 1), t0, t1, bias, sensor::ImuModel());
+    const ImuPreintegration p = PreintegrateSamples(
+        sim::NoiseFreeImu(traj, r == 0 ? 100.0 : 500.0, bias.gyro, bias.accel, kGravity), t0, t1,
+        bias, sensor::ImuModel());
     EXPECT_NEAR(p.Dt(), 1.0, 1e-12);
     error[r] = PositionError(p, traj, t0, bias);
   }
