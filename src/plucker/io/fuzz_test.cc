@@ -8,6 +8,7 @@
 #include "kitti_bin_fuzz.cc"  // NOLINT(build/include): the fuzz targets are not in the library
 #include "pcd_fuzz.cc"        // NOLINT(build/include)
 #include "pose_fuzz.cc"       // NOLINT(build/include)
+#include "segments_fuzz.cc"   // NOLINT(build/include)
 
 namespace plucker {
 namespace io {
@@ -47,6 +48,11 @@ TEST(FuzzTargets, SeedsParse) {
 TEST(FuzzTargets, KittiBin) { RunCorpus(&KittiBinOneInput, KittiBinSeeds(), 4000, 1); }
 TEST(FuzzTargets, Pcd) { RunCorpus(&PcdOneInput, PcdSeeds(), 4000, 2); }
 TEST(FuzzTargets, Pose) { RunCorpus(&PoseOneInput, PoseSeeds(), 3000, 3); }
+TEST(FuzzTargets, Segments) {
+  EXPECT_EQ(ParseSegments(SegmentSeeds()[0], "seed").segments.size(), 3u);
+  EXPECT_EQ(ParseSegments(SegmentSeeds()[1], "seed").segments.size(), 1u);
+  RunCorpus(&SegmentOneInput, SegmentSeeds(), 3000, 4);
+}
 
 }  // namespace
 }  // namespace fuzz
