@@ -2,7 +2,8 @@
 //
 // Methods: OpenCV's raw detectors with their defaults (LSD, FastLineDetector, EdgeDrawing/EDLines)
 // and the default `edlines-refined`:
-//   0. EDLines without Gaussian smoothing (more, and sharper, edges: recall),
+//   0. EDLines without Gaussian smoothing (more, and sharper, edges: recall) and with a higher
+//      anchor threshold (fewer weak anchors: precision, time),
 //   1. a support test: the share of points along the segment where the Sobel gradient (within
 //      one pixel across) is strong and perpendicular to the segment, i.e. the gradient-orientation
 //      agreement behind LSD's validation; segments with too little support are dropped
@@ -11,7 +12,7 @@
 //      default: +0.001 F at 2 px on York Urban, not worth its time),
 //   3. extension: each endpoint is pushed along the segment while the edge continues.
 // Thresholds were tuned on the even-indexed York Urban images and checked on the odd ones
-// (README, `plucker eval lines-benchmark`).
+// (README, `plucker bench lines`).
 // No file I/O, no printing, no timing: the caller times DetectLineSegments.
 #pragma once
 
