@@ -429,7 +429,8 @@ void Guarded(void (*run)(const EvalArgs&), const EvalArgs& a, int* exit_code) {
 
 void RegisterEval(CLI::App& app, int* exit_code) {
   CLI::App* eval_cmd = app.add_subcommand(
-      "eval", "Evaluate an estimated trajectory against ground truth (KITTI metric, ATE, RPE)");
+      "eval",
+      "Evaluate against ground truth: trajectories (KITTI metric, ATE, RPE), line segments");
   eval_cmd->require_subcommand(1);
 
   auto kitti_args = std::make_shared<EvalArgs>();
@@ -463,6 +464,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"none", "se3", "sim3"}))
       ->capture_default_str();
   rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
+
+  RegisterEvalLines(*eval_cmd, exit_code);
 }
 
 }  // namespace app

@@ -15,6 +15,8 @@ void RegisterSim(CLI::App& app, int* exit_code);             // cmd_sim.cc
 void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
 void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
+void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc
+void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.cc (eval lines)
 
 }  // namespace app
 }  // namespace plucker
