@@ -123,6 +123,88 @@ expect convert-strecha-bad-file nonzero "0000.jpg.camera: .*not a number: 'x'" -
   "$PLUCKER" convert strecha --cameras "$T/badcam" --out "$T/x_gt.txt"
 expect convert-strecha-empty-folder nonzero "nocam: no \*\.camera files" -- \
   "$PLUCKER" convert strecha --cameras "$T/nocam" --out "$T/x_gt.txt"
+# Line segments: detect on small generated images, evaluate, and the bad-input paths.
+# A binary PGM, 80x60: a bright box (pixels 20..59 x 15..44) on a dark background.
+pgm_box() {
+  printf 'P5\n80 60\n255\n'
+  local r
+  for r in $(seq 0 59); do
+    if [ "$r" -ge 15 ] && [ "$r" -le 44 ]; then
+      head -c 20 /dev/zero | tr '\0' '\050'
+      head -c 40 /dev/zero | tr '\0' '\310'
+      head -c 20 /dev/zero | tr '\0' '\050'
+    else
+      head -c 80 /dev/zero | tr '\0' '\050'
+    fi
+  done
+}
+mkdir -p "$T/img" "$T/img_empty" "$T/lgt" "$T/lgt_bad" "$T/lgt_empty"
+pgm_box > "$T/img/box_a.pgm"
+pgm_box > "$T/img/box_b.pgm"
+echo "not an image" > "$T/img/broken.png"
+echo "ignored" > "$T/img/notes.txt"
+printf '# box sides\n19.5 14.5 59.5 14.5\n59.5 14.5 59.5 44.5\n59.5 44.5 19.5 44.5\n19.5 44.5 19.5 14.5\n' \
+  > "$T/lgt/box_a.txt"
+cp "$T/lgt/box_a.txt" "$T/lgt/box_b.txt"
+cp "$T/lgt/box_a.txt" "$T/lgt/box_c.txt"  # no image, no estimate: counted as no detection
+printf '19.5 14.5 59.5 14.5\n59.5 14.5 59.5\n' > "$T/lgt_bad/box_a.txt"
+expect lines-detect 0 "segments in .* ms" -- \
+  "$PLUCKER" lines detect --image "$T/img/box_a.pgm" --out "$T/box_a.txt" --draw "$T/box_a.png"
+expect lines-detect-file 0 "# detection_ms [0-9.]+" -- cat "$T/box_a.txt"
+expect lines-detect-four-sides 0 "^[4-9]$" -- bash -c "grep -vc '^#' '$T/box_a.txt'"
+expect lines-detect-drawing 0 "PNG" -- head -c 4 "$T/box_a.png"
+expect lines-detect-stdout 0 "^[0-9.]+ [0-9.]+ [0-9.]+ [0-9.]+$" -- \
+  "$PLUCKER" lines detect --image "$T/img/box_a.pgm" --method lsd
+expect lines-detect-folder 0 "broken.png: cannot decode.*skipped" -- \
+  "$PLUCKER" lines detect --images "$T/img" --out "$T/lout" --draw "$T/ldraw" --method fld
+expect lines-detect-folder-files 0 "^box_a.txt box_b.txt $" -- bash -c "ls '$T/lout' | tr '\n' ' '"
+expect lines-detect-folder-drawings 0 "^box_a.png box_b.png $" -- \
+  bash -c "ls '$T/ldraw' | tr '\n' ' '"
+expect lines-detect-quiet-still-warns 0 "broken.png" -- \
+  "$PLUCKER" lines detect --images "$T/img" --out "$T/lout" --quiet
+expect lines-detect-quiet-no-progress 0 "^0$" -- \
+  bash -c "'$PLUCKER' lines detect --images '$T/img' --out '$T/lout' --quiet 2>/dev/null | wc -l"
+expect lines-detect-missing-image nonzero "no_such.png: no such file" -- \
+  "$PLUCKER" lines detect --image "$T/img/no_such.png" --out "$T/x.txt"
+expect lines-detect-unreadable-image nonzero "broken.png: cannot decode" -- \
+  "$PLUCKER" lines detect --image "$T/img/broken.png" --out "$T/x.txt"
+expect lines-detect-empty-folder nonzero "img_empty: no image files" -- \
+  "$PLUCKER" lines detect --images "$T/img_empty" --out "$T/x"
+expect lines-detect-missing-folder nonzero "nothing: not a folder" -- \
+  "$PLUCKER" lines detect --images "$T/nothing" --out "$T/x"
+expect lines-detect-image-and-images nonzero "exactly one of --image" -- \
+  "$PLUCKER" lines detect --image "$T/img/box_a.pgm" --images "$T/img" --out "$T/x"
+expect lines-detect-folder-needs-out nonzero "needs --out" -- \
+  "$PLUCKER" lines detect --images "$T/img"
+expect lines-detect-bad-method nonzero "--method hough: expected one of lsd" -- \
+  "$PLUCKER" lines detect --image "$T/img/box_a.pgm" --method hough
+expect eval-lines 0 "box_c.txt missing: counted as no detection.*overall \(3\) " -- \
+  bash -c "'$PLUCKER' eval lines --gt '$T/lgt' --est '$T/lout' --threshold 2 2>&1 | tr '\n' ' '"
+expect eval-lines-json 0 '"threshold_px": 5' -- \
+  "$PLUCKER" eval lines --gt "$T/lgt" --est "$T/lout" --json
+expect eval-lines-malformed-gt nonzero "lgt_bad/box_a.txt:2: expected 4 numbers" -- \
+  "$PLUCKER" eval lines --gt "$T/lgt_bad" --est "$T/lout"
+expect eval-lines-empty-gt nonzero "no ground-truth segment files" -- \
+  "$PLUCKER" eval lines --gt "$T/lgt_empty" --est "$T/lout"
+expect eval-lines-missing-est nonzero "nothing: not a folder" -- \
+  "$PLUCKER" eval lines --gt "$T/lgt" --est "$T/nothing"
+expect bench-lines-missing-data nonzero "nothing/images: not a folder" -- \
+  "$PLUCKER" bench lines --data "$T/nothing"
+# Real images (two York Urban images) when the shared data is there.
+YORK="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/yorkurban-lines"
+if [ -d "$YORK/gt" ]; then
+  mkdir -p "$T/york/images" "$T/york/gt"
+  for n in P1020171 P1020816; do
+    cp "$YORK/images/$n.jpg" "$T/york/images/" && cp "$YORK/gt/$n.txt" "$T/york/gt/"
+  done
+  expect lines-york-detect 0 "2 images, 0 skipped" -- \
+    "$PLUCKER" lines detect --images "$T/york/images" --out "$T/york/est"
+  expect lines-york-eval 0 "overall \(2\) +0\.(8[5-9]|9)[0-9]* +0\.(8[5-9]|9)" -- \
+    "$PLUCKER" eval lines --gt "$T/york/gt" --est "$T/york/est"
+  expect bench-lines-york 0 "target F5 >= best raw" -- "$PLUCKER" bench lines --data "$T/york"
+else
+  echo "skip lines-york-*: no York Urban extract at $YORK"
+fi
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -17,6 +17,7 @@ namespace app {
 
 void RegisterBenchBundleAdjustment(CLI::App& bench, int* exit_code);  // cmd_bench_ba.cc
 void RegisterBenchLidar(CLI::App& bench, int* exit_code);             // cmd_bench_lidar.cc
+void RegisterBenchLines(CLI::App& bench, int* exit_code);             // cmd_bench_lines.cc
 
 namespace {
 
@@ -102,6 +103,7 @@ void RegisterBench(CLI::App& app, int* exit_code) {
   RegisterBenchFactors(*bench, exit_code);
   RegisterBenchBundleAdjustment(*bench, exit_code);
   RegisterBenchLidar(*bench, exit_code);
+  RegisterBenchLines(*bench, exit_code);
 }
 
 }  // namespace app

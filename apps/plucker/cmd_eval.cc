@@ -429,7 +429,8 @@ void Guarded(void (*run)(const EvalArgs&), const EvalArgs& a, int* exit_code) {
 
 void RegisterEval(CLI::App& app, int* exit_code) {
   CLI::App* eval_cmd = app.add_subcommand(
-      "eval", "Evaluate an estimated trajectory against ground truth (KITTI metric, ATE, RPE)");
+      "eval",
+      "Evaluate against ground truth: trajectories (KITTI metric, ATE, RPE), line segments");
   eval_cmd->require_subcommand(1);
 
   auto kitti_args = std::make_shared<EvalArgs>();
@@ -467,6 +468,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
 
   AddEvalImu(eval_cmd, exit_code);
+  RegisterEvalLines(*eval_cmd, exit_code);
 }
 
 }  // namespace app

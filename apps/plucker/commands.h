@@ -17,6 +17,8 @@ void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
 void AddEvalImu(CLI::App* eval_cmd, int* exit_code);         // cmd_eval_imu.cc, `eval imu`
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
 void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
+void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc
+void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.cc (eval lines)
 
 }  // namespace app
 }  // namespace plucker

@@ -9,6 +9,7 @@
 #include "kitti_bin_fuzz.cc"  // NOLINT(build/include)
 #include "pcd_fuzz.cc"        // NOLINT(build/include)
 #include "pose_fuzz.cc"       // NOLINT(build/include)
+#include "segments_fuzz.cc"   // NOLINT(build/include)
 
 namespace plucker {
 namespace io {
@@ -54,6 +55,11 @@ TEST(FuzzTargets, Euroc) {
   EXPECT_EQ(ParseEurocGroundTruthCsv(seeds[1], "seed", 0).size(), 1u);
   EXPECT_EQ(ParseEurocImuYaml(seeds[2], "seed").rate_hz, 200.0);
   RunCorpus(&EurocOneInput, seeds, 3000, 4);
+}
+TEST(FuzzTargets, Segments) {
+  EXPECT_EQ(ParseSegments(SegmentSeeds()[0], "seed").segments.size(), 3u);
+  EXPECT_EQ(ParseSegments(SegmentSeeds()[1], "seed").segments.size(), 1u);
+  RunCorpus(&SegmentOneInput, SegmentSeeds(), 3000, 4);
 }
 
 }  // namespace
