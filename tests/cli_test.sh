@@ -155,7 +155,7 @@ expect lines-detect-four-sides 0 "^[4-9]$" -- bash -c "grep -vc '^#' '$T/box_a.t
 expect lines-detect-drawing 0 "PNG" -- head -c 4 "$T/box_a.png"
 expect lines-detect-stdout 0 "^[0-9.]+ [0-9.]+ [0-9.]+ [0-9.]+$" -- \
   "$PLUCKER" lines detect --image "$T/img/box_a.pgm" --method lsd
-expect lines-detect-folder 0 "broken.png: cannot decode.*skipped" -- \
+expect lines-detect-folder 0 "broken.png: not a readable image.*skipped" -- \
   "$PLUCKER" lines detect --images "$T/img" --out "$T/lout" --draw "$T/ldraw" --method fld
 expect lines-detect-folder-files 0 "^box_a.txt box_b.txt $" -- bash -c "ls '$T/lout' | tr '\n' ' '"
 expect lines-detect-folder-drawings 0 "^box_a.png box_b.png $" -- \
@@ -164,9 +164,9 @@ expect lines-detect-quiet-still-warns 0 "broken.png" -- \
   "$PLUCKER" lines detect --images "$T/img" --out "$T/lout" --quiet
 expect lines-detect-quiet-no-progress 0 "^0$" -- \
   bash -c "'$PLUCKER' lines detect --images '$T/img' --out '$T/lout' --quiet 2>/dev/null | wc -l"
-expect lines-detect-missing-image nonzero "no_such.png: no such file" -- \
+expect lines-detect-missing-image nonzero "no_such.png: no such image file" -- \
   "$PLUCKER" lines detect --image "$T/img/no_such.png" --out "$T/x.txt"
-expect lines-detect-unreadable-image nonzero "broken.png: cannot decode" -- \
+expect lines-detect-unreadable-image nonzero "broken.png: not a readable image" -- \
   "$PLUCKER" lines detect --image "$T/img/broken.png" --out "$T/x.txt"
 expect lines-detect-empty-folder nonzero "img_empty: no image files" -- \
   "$PLUCKER" lines detect --images "$T/img_empty" --out "$T/x"

@@ -18,8 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "image_folder.h"
 #include "plucker/eval/line_coverage.h"
+#include "plucker/io/image_folder.h"
 #include "plucker/io/segments.h"
 #include "plucker/vision/line_detector.h"
 
@@ -92,10 +92,10 @@ struct Image {
 
 std::vector<Image> LoadData(const std::string& dir) {
   std::vector<Image> images;
-  for (const std::string& path : ListImageFiles((fs::path(dir) / "images").string())) {
+  for (const std::string& path : io::ListImageFiles((fs::path(dir) / "images").string())) {
     Image im;
     im.name = fs::path(path).stem().string();
-    im.gray = ReadGrayImage(path);
+    im.gray = io::ReadGrayImage(path);
     im.gt = io::ReadSegments((fs::path(dir) / "gt" / (im.name + ".txt")).string()).segments;
     images.push_back(std::move(im));
   }

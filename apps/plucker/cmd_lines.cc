@@ -17,7 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
-#include "image_folder.h"
+#include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/segments.h"
 #include "plucker/vision/line_detector.h"
@@ -48,7 +48,7 @@ struct Detected {
 
 Detected DetectFile(const std::string& path, const vision::LineDetectorOptions& options) {
   Detected d;
-  const cv::Mat gray = ReadGrayImage(path);
+  const cv::Mat gray = io::ReadGrayImage(path);
   d.size = gray.size();
   const auto start = std::chrono::steady_clock::now();
   d.detection = vision::DetectLineSegments(gray, options);
@@ -125,7 +125,7 @@ int RunSingle(const DetectArgs& a, const vision::LineDetectorOptions& options) {
 
 int RunFolder(const DetectArgs& a, const vision::LineDetectorOptions& options) {
   if (a.out.empty()) throw std::invalid_argument("--images needs --out OUTDIR");
-  const std::vector<std::string> files = ListImageFiles(a.images);
+  const std::vector<std::string> files = io::ListImageFiles(a.images);
   if (files.empty()) throw io::IoError(a.images, "no image files in the folder");
   MakeFolder(a.out, "--out");
   if (!a.draw.empty()) MakeFolder(a.draw, "--draw");
