@@ -1,12 +1,12 @@
 #include "plucker/io/sim_format.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "plucker/io/io_test_utils.h"
 #include "plucker/sim/camera_observations.h"
 
 namespace plucker {
@@ -61,16 +61,6 @@ int CountOutliers(const sensor::CameraImuSequence& s) {
 
 class SimFormatTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("plucker_sim_format_" + std::string(info->name()) + "_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    dir_ = (root_ / "sim").string();
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
   // Writes a valid simulation, applies `mutate` to it and expects ReadCameraImuSequence to throw
   // an IoError whose message contains `expected` (the file name and line).
   template <typename Mutate>
@@ -85,8 +75,9 @@ class SimFormatTest : public ::testing::Test {
     }
   }
 
-  fs::path root_;
-  std::string dir_;
+  const testing::ScratchDir scratch_;
+  const fs::path& root_ = scratch_.path();
+  const std::string dir_ = (root_ / "sim").string();
 };
 
 TEST_F(SimFormatTest, RoundTripIsExact) {
