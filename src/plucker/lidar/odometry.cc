@@ -3,6 +3,8 @@
 #include <ceres/loss_function.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
 #include <optional>
 #include <stdexcept>
 
@@ -43,6 +45,59 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Fit(const std::vector<Eigen::Vect
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   solver.computeDirect(cov / static_cast<double>(pts.size()));
   return solver;
+}
+
+// The map points searched per feature point in the first round of a scan (<= 16).
+constexpr int kCandidates = 8;
+constexpr int kMaxNeighbours = 16;
+
+// One feature point's neighbour search, kept over the association rounds of a scan. The pose
+// moves little between rounds, so the k nearest map points of the new query are usually among
+// the candidates found before, provably so when they are nearer than any other map point can
+// be (`reach` less the distance the query moved); else the map is searched again. The fit of a
+// neighbour set is kept while the set is unchanged. Results equal a fresh search (up to ties).
+template <typename Match>
+struct NeighbourCache {
+  Eigen::Vector3f q_w;  // query of the last search
+  float reach = 0.0f;   // every map point not in `cand` is at least this far from q_w
+  int n = 0;            // candidates, nearest first
+  std::array<Eigen::Vector3f, kMaxNeighbours> cand;
+  unsigned fit_set = 0;  // bit mask of the candidates `match` was fitted to (0: none)
+  bool matched = false;  // the fit gave a match
+  Match match;
+};
+
+// The k nearest map points within max_d of q_w into *nb, nearest first, from the cache when it
+// proves them (never when `fresh`). Returns their bit mask over c->cand (fewer than k bits: fewer
+// than k points within max_d).
+template <typename Match>
+unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double max_d, bool fresh,
+                 NeighbourCache<Match>* c, std::vector<Eigen::Vector3d>* nb) {
+  const Eigen::Vector3f q = q_w.cast<float>();
+  if (!fresh) {
+    std::array<std::pair<float, int>, kMaxNeighbours> d;
+    for (int j = 0; j < c->n; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
+    const int m = std::min(k, c->n);
+    std::partial_sort(d.begin(), d.begin() + m, d.begin() + c->n);
+    int count = 0;
+    while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
+    const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
+    if (bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {
+      unsigned set = 0;
+      nb->resize(count);
+      for (int j = 0; j < count; ++j) {
+        (*nb)[j] = c->cand[d[j].second].template cast<double>();
+        set |= 1u << d[j].second;
+      }
+      return set;
+    }
+  }
+  c->n = map.KNearest(q_w, std::max(k, kCandidates), max_d, nb, &c->reach);
+  for (int j = 0; j < c->n; ++j) c->cand[j] = (*nb)[j].cast<float>();
+  c->q_w = q;
+  c->fit_set = 0;
+  nb->resize(std::min(k, c->n));
+  return (1u << nb->size()) - 1;
 }
 
 // Every `stride`-th element so that at most `cap` remain (times alongside when present), in
@@ -105,27 +160,26 @@ class LidarOdometry::Impl {
     criterion.max_rotation_information = o.degeneracy_max_rotation_information;
   }
 
-  // matches = the successful match(point) over `points`, in point order; in parallel chunks when
+  // matches = the successful match_fn(i) over i < n, in order; in parallel chunks when
   // num_threads > 1 (the same result either way).
   template <typename Match, typename MatchFn>
-  void FindMatches(const std::vector<Eigen::Vector3d>& points, const MatchFn& match_fn,
-                   std::vector<Match>* matches) {
+  void FindMatches(std::size_t n, const MatchFn& match_fn, std::vector<Match>* matches) {
     matches->clear();
     if (!arena) {
       Match m;
-      for (const Eigen::Vector3d& p : points)
-        if (match_fn(p, &neighbours, &m)) matches->push_back(m);
+      for (std::size_t i = 0; i < n; ++i)
+        if (match_fn(i, &neighbours, &m)) matches->push_back(m);
       return;
     }
     constexpr std::size_t kChunk = 256;
-    const std::size_t chunks = (points.size() + kChunk - 1) / kChunk;
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
     std::vector<std::vector<Match>> parts(chunks);
     arena->execute([&] {
       tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::vector<Eigen::Vector3d> nb;
         Match m;
-        for (std::size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i)
-          if (match_fn(points[i], &nb, &m)) parts[c].push_back(m);
+        for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+          if (match_fn(i, &nb, &m)) parts[c].push_back(m);
       });
     });
     for (const auto& part : parts) matches->insert(matches->end(), part.begin(), part.end());
@@ -133,36 +187,57 @@ class LidarOdometry::Impl {
 
   // Plane and edge correspondences (this->planes, this->edges) of the scan's feature points at
   // the estimate T_w_s: the k nearest map points, a plane if all lie within plane_max_residual of
-  // their fitted plane, an edge if their covariance is elongated. Returns how many were found.
+  // their fitted plane, an edge if their covariance is elongated. `first_round`: the first of the
+  // scan (the searches of later rounds start from its candidates). Returns how many were found.
   int FindCorrespondences(const VoxelMap& edge_map, const VoxelMap& plane_map,
-                          const ScanFeatures& points_s, const SE3d& T_w_s,
+                          const ScanFeatures& points_s, const SE3d& T_w_s, bool first_round,
                           const LidarOdometryOptions& o) {
-    const int k = std::min(o.num_neighbours, 16);
+    const int k = std::min(o.num_neighbours, kMaxNeighbours);
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
     const double edge_max_d = std::min(max_d, edge_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                           PlaneMatch* match) {
-      if (plane_map.KNearest(R_w_s * p_s + t_w_s, k, max_d, nb) < k) return false;
-      Eigen::Vector3d mean;
-      const Eigen::Vector3d m_w = Fit(*nb, &mean).eigenvectors().col(0);
-      for (const auto& q_w : *nb)
-        if (std::abs(m_w.dot(q_w - mean)) > o.plane_max_residual) return false;
-      *match = {p_s, m_w, mean};
-      return true;
+    if (first_round) {
+      plane_cache.assign(points_s.planes.size(), {});
+      edge_cache.assign(points_s.edges.size(), {});
+    }
+    auto match_plane = [&](std::size_t i, std::vector<Eigen::Vector3d>* nb, PlaneMatch* match) {
+      auto& c = plane_cache[i];
+      const Eigen::Vector3d& p_s = points_s.planes[i];
+      const unsigned set = Nearest(plane_map, R_w_s * p_s + t_w_s, k, max_d, first_round, &c, nb);
+      if (static_cast<int>(nb->size()) < k) return false;
+      if (set != c.fit_set) {
+        c.fit_set = set;
+        Eigen::Vector3d mean;
+        const Eigen::Vector3d m_w = Fit(*nb, &mean).eigenvectors().col(0);
+        c.matched = std::none_of(nb->begin(), nb->end(), [&](const Eigen::Vector3d& q_w) {
+          return std::abs(m_w.dot(q_w - mean)) > o.plane_max_residual;
+        });
+        c.match = {p_s, m_w, mean};
+      }
+      *match = c.match;
+      match->p_s = p_s;
+      return c.matched;
     };
-    auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                          EdgeMatch* match) {
-      if (edge_map.KNearest(R_w_s * p_s + t_w_s, k, edge_max_d, nb) < k) return false;
-      Eigen::Vector3d mean;
-      const auto fit = Fit(*nb, &mean);
-      if (fit.eigenvalues()(2) <= o.edge_eigen_ratio * fit.eigenvalues()(1)) return false;
-      *match = {p_s, mean, fit.eigenvectors().col(2)};
-      return true;
+    auto match_edge = [&](std::size_t i, std::vector<Eigen::Vector3d>* nb, EdgeMatch* match) {
+      auto& c = edge_cache[i];
+      const Eigen::Vector3d& p_s = points_s.edges[i];
+      const unsigned set =
+          Nearest(edge_map, R_w_s * p_s + t_w_s, k, edge_max_d, first_round, &c, nb);
+      if (static_cast<int>(nb->size()) < k) return false;
+      if (set != c.fit_set) {
+        c.fit_set = set;
+        Eigen::Vector3d mean;
+        const auto fit = Fit(*nb, &mean);
+        c.matched = fit.eigenvalues()(2) > o.edge_eigen_ratio * fit.eigenvalues()(1);
+        c.match = {p_s, mean, fit.eigenvectors().col(2)};
+      }
+      *match = c.match;
+      match->p_s = p_s;
+      return c.matched;
     };
-    FindMatches(points_s.planes, match_plane, &planes);
-    FindMatches(points_s.edges, match_edge, &edges);
+    FindMatches(points_s.planes.size(), match_plane, &planes);
+    FindMatches(points_s.edges.size(), match_edge, &edges);
     return static_cast<int>(planes.size() + edges.size());
   }
 
@@ -173,6 +248,8 @@ class LidarOdometry::Impl {
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<PlaneMatch> planes;
   std::vector<EdgeMatch> edges;
+  std::vector<NeighbourCache<PlaneMatch>> plane_cache;  // one per feature point of the scan
+  std::vector<NeighbourCache<EdgeMatch>> edge_cache;
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
   // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
   FeatureExtractor feature_extractor;
@@ -288,7 +365,7 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
     Notify(observer, Stage::kCorrespondences);
     if (round > 0 && result->deskewed) DeskewFeatures(result->T_w_s, features);
     const int found =
-        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, o);
+        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, round == 0, o);
     result->plane_correspondences = static_cast<int>(impl_->planes.size());
     result->edge_correspondences = static_cast<int>(impl_->edges.size());
     result->ok = found >= o.min_correspondences;

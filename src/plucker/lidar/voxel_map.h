@@ -76,9 +76,10 @@ class VoxelMap {
   void RemoveFar(const Eigen::Vector3d& origin_w);
 
   // Up to k nearest stored points within max_distance (<= voxel_size) of `query_w`, sorted by
-  // distance. Returns how many were written into `neighbours` (resized to the count).
+  // distance. Returns how many were written into `neighbours` (resized to the count). `reach`:
+  // a lower bound of the distance from query_w to every stored point not returned.
   int KNearest(const Eigen::Vector3d& query_w, int k, double max_distance,
-               std::vector<Eigen::Vector3d>* neighbours) const;
+               std::vector<Eigen::Vector3d>* neighbours, float* reach = nullptr) const;
 
   std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return voxels_.size(); }
