@@ -90,8 +90,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
   std::vector<Eigen::Vector3d>& prefix = scratch->prefix;
   prefix.resize(n + 1);
-  prefix[0].setZero();
-  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // a local: no store-to-load chain per point
+  prefix[0] = sum;
+  for (int i = 0; i < n; ++i) prefix[i + 1] = sum += ring.p[i];
   std::vector<double>& curvature = scratch->curvature;
   curvature.assign(n, 0.0);
   for (int i = k; i < n - k; ++i) {
@@ -207,8 +208,10 @@ void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points
   seen->clear();
   seen->reserve(points->size());
   std::size_t out = 0;
+  std::uint64_t last = ~std::uint64_t{0};  // the previous point's voxel (already in `seen`)
   for (std::size_t i = 0; i < points->size(); ++i) {
-    if (!seen->insert(PackVoxel(VoxelOf((*points)[i], inv))).second) continue;
+    const std::uint64_t key = PackVoxel(VoxelOf((*points)[i], inv));
+    if (key == last || !seen->insert(last = key).second) continue;
     (*points)[out] = (*points)[i];
     if (with_times) (*times)[out] = (*times)[i];
     ++out;

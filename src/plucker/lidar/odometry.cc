@@ -27,28 +27,31 @@ using sensor::LidarModelFromName;
 
 namespace {
 
-struct PlaneMatch {
-  Eigen::Vector3d p_s, m_w, q_w;
-};
-struct EdgeMatch {
-  Eigen::Vector3d p_s, a_w, u_w;
+// A feature point p_s and its map plane (x_w a point, d_w the normal) or line (x_w a point, d_w
+// the direction).
+struct Match {
+  Eigen::Vector3d p_s, x_w, d_w;
 };
 
-// The covariance of a few points about their mean, eigen-decomposed (ascending eigenvalues).
-Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Fit(const std::vector<Eigen::Vector3d>& pts,
-                                                   Eigen::Vector3d* mean) {
-  *mean = Eigen::Vector3d::Zero();
-  for (const auto& p : pts) *mean += p;
-  *mean /= static_cast<double>(pts.size());
+// The plane of the map points nb (when all lie within plane_max_residual of it) or their line
+// (when their covariance is elongated), from the eigen-decomposition of their covariance.
+bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdometryOptions& o,
+            Match* m) {
+  m->x_w = Eigen::Vector3d::Zero();
+  for (const auto& p : nb) m->x_w += p;
+  m->x_w /= static_cast<double>(nb.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : pts) cov.noalias() += (p - *mean) * (p - *mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(cov / static_cast<double>(pts.size()));
-  return solver;
+  for (const auto& p : nb) cov.noalias() += (p - m->x_w) * (p - m->x_w).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> fit;
+  fit.computeDirect(cov / static_cast<double>(nb.size()));  // ascending eigenvalues
+  m->d_w = fit.eigenvectors().col(plane ? 0 : 2);
+  if (!plane) return fit.eigenvalues()(2) > o.edge_eigen_ratio * fit.eigenvalues()(1);
+  return std::none_of(nb.begin(), nb.end(), [&](const Eigen::Vector3d& q_w) {
+    return std::abs(m->d_w.dot(q_w - m->x_w)) > o.plane_max_residual;
+  });
 }
 
-// The map points searched per feature point in the first round of a scan (<= 16).
-constexpr int kCandidates = 8;
+constexpr int kCandidates = 8;  // map points searched per feature point in a scan's first round
 constexpr int kMaxNeighbours = 16;
 
 // One feature point's neighbour search, kept over the association rounds of a scan. The pose
@@ -56,7 +59,6 @@ constexpr int kMaxNeighbours = 16;
 // the candidates found before, provably so when they are nearer than any other map point can
 // be (`reach` less the distance the query moved); else the map is searched again. The fit of a
 // neighbour set is kept while the set is unchanged. Results equal a fresh search (up to ties).
-template <typename Match>
 struct NeighbourCache {
   Eigen::Vector3f q_w;  // query of the last search
   float reach = 0.0f;   // every map point not in `cand` is at least this far from q_w
@@ -68,29 +70,25 @@ struct NeighbourCache {
 };
 
 // The k nearest map points within max_d of q_w into *nb, nearest first, from the cache when it
-// proves them (never when `fresh`). Returns their bit mask over c->cand (fewer than k bits: fewer
-// than k points within max_d).
-template <typename Match>
+// proves them (never when `fresh`). Returns their bit mask over c->cand.
 unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double max_d, bool fresh,
-                 NeighbourCache<Match>* c, std::vector<Eigen::Vector3d>* nb) {
+                 NeighbourCache* c, std::vector<Eigen::Vector3d>* nb) {
   const Eigen::Vector3f q = q_w.cast<float>();
-  if (!fresh) {
-    std::array<std::pair<float, int>, kMaxNeighbours> d;
-    for (int j = 0; j < c->n; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
-    const int m = std::min(k, c->n);
-    std::partial_sort(d.begin(), d.begin() + m, d.begin() + c->n);
-    int count = 0;
-    while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
-    const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
-    if (bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {
-      unsigned set = 0;
-      nb->resize(count);
-      for (int j = 0; j < count; ++j) {
-        (*nb)[j] = c->cand[d[j].second].template cast<double>();
-        set |= 1u << d[j].second;
-      }
-      return set;
+  std::array<std::pair<float, int>, kMaxNeighbours> d;
+  for (int j = 0; j < c->n && !fresh; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
+  const int m = fresh ? 0 : std::min(k, c->n);
+  std::partial_sort(d.begin(), d.begin() + m, d.begin() + (fresh ? 0 : c->n));
+  int count = 0;
+  while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
+  const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
+  if (!fresh && bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {
+    unsigned set = 0;
+    nb->resize(count);
+    for (int j = 0; j < count; ++j) {
+      (*nb)[j] = c->cand[d[j].second].cast<double>();
+      set |= 1u << d[j].second;
     }
+    return set;
   }
   c->n = map.KNearest(q_w, std::max(k, kCandidates), max_d, nb, &c->reach);
   for (int j = 0; j < c->n; ++j) c->cand[j] = (*nb)[j].cast<float>();
@@ -162,7 +160,7 @@ class LidarOdometry::Impl {
 
   // matches = the successful match_fn(i) over i < n, in order; in parallel chunks when
   // num_threads > 1 (the same result either way).
-  template <typename Match, typename MatchFn>
+  template <typename MatchFn>
   void FindMatches(std::size_t n, const MatchFn& match_fn, std::vector<Match>* matches) {
     matches->clear();
     if (!arena) {
@@ -186,58 +184,34 @@ class LidarOdometry::Impl {
   }
 
   // Plane and edge correspondences (this->planes, this->edges) of the scan's feature points at
-  // the estimate T_w_s: the k nearest map points, a plane if all lie within plane_max_residual of
-  // their fitted plane, an edge if their covariance is elongated. `first_round`: the first of the
-  // scan (the searches of later rounds start from its candidates). Returns how many were found.
+  // the estimate T_w_s: the k nearest map points and their fit (FitMap); the searches of later
+  // rounds start from the first round's (NeighbourCache). Returns how many were found.
   int FindCorrespondences(const VoxelMap& edge_map, const VoxelMap& plane_map,
                           const ScanFeatures& points_s, const SE3d& T_w_s, bool first_round,
                           const LidarOdometryOptions& o) {
     const int k = std::min(o.num_neighbours, kMaxNeighbours);
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
-    const double edge_max_d = std::min(max_d, edge_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    if (first_round) {
-      plane_cache.assign(points_s.planes.size(), {});
-      edge_cache.assign(points_s.edges.size(), {});
-    }
-    auto match_plane = [&](std::size_t i, std::vector<Eigen::Vector3d>* nb, PlaneMatch* match) {
-      auto& c = plane_cache[i];
-      const Eigen::Vector3d& p_s = points_s.planes[i];
-      const unsigned set = Nearest(plane_map, R_w_s * p_s + t_w_s, k, max_d, first_round, &c, nb);
+    if (first_round) plane_cache.assign(points_s.planes.size(), {});
+    if (first_round) edge_cache.assign(points_s.edges.size(), {});
+    auto match = [&](bool plane, std::size_t i, std::vector<Eigen::Vector3d>* nb, Match* m) {
+      NeighbourCache& c = (plane ? plane_cache : edge_cache)[i];
+      const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];
+      const VoxelMap& map = plane ? plane_map : edge_map;
+      const double d = std::min(max_d, map.options().voxel_size);
+      const unsigned set = Nearest(map, R_w_s * p_s + t_w_s, k, d, first_round, &c, nb);
       if (static_cast<int>(nb->size()) < k) return false;
-      if (set != c.fit_set) {
-        c.fit_set = set;
-        Eigen::Vector3d mean;
-        const Eigen::Vector3d m_w = Fit(*nb, &mean).eigenvectors().col(0);
-        c.matched = std::none_of(nb->begin(), nb->end(), [&](const Eigen::Vector3d& q_w) {
-          return std::abs(m_w.dot(q_w - mean)) > o.plane_max_residual;
-        });
-        c.match = {p_s, m_w, mean};
-      }
-      *match = c.match;
-      match->p_s = p_s;
+      if (set != c.fit_set) c.matched = FitMap(*nb, plane, o, &c.match);
+      c.fit_set = set;
+      *m = c.match;
+      m->p_s = p_s;
       return c.matched;
     };
-    auto match_edge = [&](std::size_t i, std::vector<Eigen::Vector3d>* nb, EdgeMatch* match) {
-      auto& c = edge_cache[i];
-      const Eigen::Vector3d& p_s = points_s.edges[i];
-      const unsigned set =
-          Nearest(edge_map, R_w_s * p_s + t_w_s, k, edge_max_d, first_round, &c, nb);
-      if (static_cast<int>(nb->size()) < k) return false;
-      if (set != c.fit_set) {
-        c.fit_set = set;
-        Eigen::Vector3d mean;
-        const auto fit = Fit(*nb, &mean);
-        c.matched = fit.eigenvalues()(2) > o.edge_eigen_ratio * fit.eigenvalues()(1);
-        c.match = {p_s, mean, fit.eigenvectors().col(2)};
-      }
-      *match = c.match;
-      match->p_s = p_s;
-      return c.matched;
-    };
-    FindMatches(points_s.planes.size(), match_plane, &planes);
-    FindMatches(points_s.edges.size(), match_edge, &edges);
+    FindMatches(
+        points_s.planes.size(), [&](auto... a) { return match(true, a...); }, &planes);
+    FindMatches(
+        points_s.edges.size(), [&](auto... a) { return match(false, a...); }, &edges);
     return static_cast<int>(planes.size() + edges.size());
   }
 
@@ -246,10 +220,8 @@ class LidarOdometry::Impl {
   DegeneracyCriterion criterion;
   std::optional<LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
-  std::vector<PlaneMatch> planes;
-  std::vector<EdgeMatch> edges;
-  std::vector<NeighbourCache<PlaneMatch>> plane_cache;  // one per feature point of the scan
-  std::vector<NeighbourCache<EdgeMatch>> edge_cache;
+  std::vector<Match> planes, edges;
+  std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
   // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
   FeatureExtractor feature_extractor;
@@ -399,11 +371,11 @@ bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   const LidarOdometryOptions& o = options_;
   auto& residuals = impl_->residuals;
   residuals.clear();
-  for (const PlaneMatch& m : impl_->planes)
-    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma));
-  for (const EdgeMatch& m : impl_->edges)
+  for (const Match& m : impl_->planes)
+    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
+  for (const Match& m : impl_->edges)
     residuals.emplace_back(
-        PointToEdgeFactor::CreateFromDirection(m.p_s, m.a_w, m.u_w, o.edge_sigma));
+        PointToEdgeFactor::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
   PoseSolverOptions solver_options;
   solver_options.max_iterations = o.max_iterations;
   SE3d T_w_s = result->T_w_s;
