@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <optional>
-#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -27,14 +26,12 @@ using sensor::LidarModelFromName;
 
 namespace {
 
-// A feature point p_s and its map plane (x_w a point, d_w the normal) or line (x_w a point, d_w
-// the direction).
+// A feature point p_s and its map plane (x_w, normal d_w) or line (x_w, direction d_w).
 struct Match {
   Eigen::Vector3d p_s, x_w, d_w;
 };
 
-// The plane of the map points nb (when all lie within plane_max_residual of it) or their line
-// (when their covariance is elongated), from the eigen-decomposition of their covariance.
+// Fits the map plane (all nb within plane_max_residual) or line (elongated covariance) of nb.
 bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdometryOptions& o,
             Match* m) {
   m->x_w = Eigen::Vector3d::Zero();
@@ -54,11 +51,10 @@ bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdome
 constexpr int kCandidates = 8;  // map points searched per feature point in a scan's first round
 constexpr int kMaxNeighbours = 16;
 
-// One feature point's neighbour search, kept over the association rounds of a scan. The pose
-// moves little between rounds, so the k nearest map points of the new query are usually among
-// the candidates found before, provably so when they are nearer than any other map point can
-// be (`reach` less the distance the query moved); else the map is searched again. The fit of a
-// neighbour set is kept while the set is unchanged. Results equal a fresh search (up to ties).
+// One feature point's neighbour search, kept over the association rounds of a scan: the k nearest
+// map points of the moved query are taken from the candidates found before when provably nearer
+// than any other map point (`reach` less the distance moved), else searched again; the fit of an
+// unchanged neighbour set is kept. Results equal a fresh search (up to ties).
 struct NeighbourCache {
   Eigen::Vector3f q_w;  // query of the last search
   float reach = 0.0f;   // every map point not in `cand` is at least this far from q_w
@@ -70,18 +66,18 @@ struct NeighbourCache {
 };
 
 // The k nearest map points within max_d of q_w into *nb, nearest first, from the cache when it
-// proves them (never when `fresh`). Returns their bit mask over c->cand.
-unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double max_d, bool fresh,
+// proves them (never after a reset). Returns their bit mask over c->cand.
+unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double max_d,
                  NeighbourCache* c, std::vector<Eigen::Vector3d>* nb) {
   const Eigen::Vector3f q = q_w.cast<float>();
   std::array<std::pair<float, int>, kMaxNeighbours> d;
-  for (int j = 0; j < c->n && !fresh; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
-  const int m = fresh ? 0 : std::min(k, c->n);
-  std::partial_sort(d.begin(), d.begin() + m, d.begin() + (fresh ? 0 : c->n));
+  for (int j = 0; j < c->n; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
+  const int m = std::min(k, c->n);
+  std::partial_sort(d.begin(), d.begin() + m, d.begin() + c->n);
   int count = 0;
   while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
   const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
-  if (!fresh && bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {
+  if (bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {  // reach 0 after a reset
     unsigned set = 0;
     nb->resize(count);
     for (int j = 0; j < count; ++j) {
@@ -98,8 +94,7 @@ unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double 
   return (1u << nb->size()) - 1;
 }
 
-// Every `stride`-th element so that at most `cap` remain (times alongside when present), in
-// place (element j = floor(i * stride) >= i moves to i).
+// Every `stride`-th element (and time, if any) so that at most `cap` remain, in place.
 void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>* times) {
   if (cap <= 0 || static_cast<int>(v->size()) <= cap) return;
   const bool with_times = times->size() == v->size();
@@ -113,8 +108,7 @@ void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>*
   if (with_times) times->resize(cap);
 }
 
-// Moves the feature points measured along a sweep to its start frame (constant velocity over one
-// period, T_s_start_s_end the motion over the sweep).
+// Deskews the feature points with the motion over the sweep T_s_start_s_end.
 void DeskewScanPoints(const SE3d& T_s_start_s_end, double period, ScanFeatures* f) {
   DeskewPoints(T_s_start_s_end, period, f->edge_times, &f->edges);
   DeskewPoints(T_s_start_s_end, period, f->plane_times, &f->planes);
@@ -130,8 +124,7 @@ void Notify(const StageObserver& observer, Stage stage) {
   if (observer) observer(stage);
 }
 
-// The scan's features, capped to max_edge_points / max_plane_points (with per-point times when
-// deskewing).
+// The scan's features capped to max_edge_points / max_plane_points (times when deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
                          FeatureExtractor* extractor, ScanFeatures* features, std::string* error) {
   FeatureOptions feature_options = o.features;
@@ -158,15 +151,15 @@ class LidarOdometry::Impl {
     criterion.max_rotation_information = o.degeneracy_max_rotation_information;
   }
 
-  // matches = the successful match_fn(i) over i < n, in order; in parallel chunks when
-  // num_threads > 1 (the same result either way).
+  // matches = the successful match_fn(plane, i), i < n, in order (in parallel: the same result).
   template <typename MatchFn>
-  void FindMatches(std::size_t n, const MatchFn& match_fn, std::vector<Match>* matches) {
+  void FindMatches(std::size_t n, bool plane, const MatchFn& match_fn,
+                   std::vector<Match>* matches) {
     matches->clear();
     if (!arena) {
       Match m;
       for (std::size_t i = 0; i < n; ++i)
-        if (match_fn(i, &neighbours, &m)) matches->push_back(m);
+        if (match_fn(plane, i, &neighbours, &m)) matches->push_back(m);
       return;
     }
     constexpr std::size_t kChunk = 256;
@@ -177,15 +170,14 @@ class LidarOdometry::Impl {
         std::vector<Eigen::Vector3d> nb;
         Match m;
         for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
-          if (match_fn(i, &nb, &m)) parts[c].push_back(m);
+          if (match_fn(plane, i, &nb, &m)) parts[c].push_back(m);
       });
     });
     for (const auto& part : parts) matches->insert(matches->end(), part.begin(), part.end());
   }
 
-  // Plane and edge correspondences (this->planes, this->edges) of the scan's feature points at
-  // the estimate T_w_s: the k nearest map points and their fit (FitMap); the searches of later
-  // rounds start from the first round's (NeighbourCache). Returns how many were found.
+  // Plane and edge correspondences (this->planes, this->edges) at T_w_s: k nearest map points
+  // (NeighbourCache, reset in the first round) and their fit (FitMap). Returns how many.
   int FindCorrespondences(const VoxelMap& edge_map, const VoxelMap& plane_map,
                           const ScanFeatures& points_s, const SE3d& T_w_s, bool first_round,
                           const LidarOdometryOptions& o) {
@@ -200,7 +192,7 @@ class LidarOdometry::Impl {
       const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];
       const VoxelMap& map = plane ? plane_map : edge_map;
       const double d = std::min(max_d, map.options().voxel_size);
-      const unsigned set = Nearest(map, R_w_s * p_s + t_w_s, k, d, first_round, &c, nb);
+      const unsigned set = Nearest(map, R_w_s * p_s + t_w_s, k, d, &c, nb);
       if (static_cast<int>(nb->size()) < k) return false;
       if (set != c.fit_set) c.matched = FitMap(*nb, plane, o, &c.match);
       c.fit_set = set;
@@ -208,10 +200,8 @@ class LidarOdometry::Impl {
       m->p_s = p_s;
       return c.matched;
     };
-    FindMatches(
-        points_s.planes.size(), [&](auto... a) { return match(true, a...); }, &planes);
-    FindMatches(
-        points_s.edges.size(), [&](auto... a) { return match(false, a...); }, &edges);
+    FindMatches(points_s.planes.size(), true, match, &planes);
+    FindMatches(points_s.edges.size(), false, match, &edges);
     return static_cast<int>(planes.size() + edges.size());
   }
 
@@ -223,14 +213,12 @@ class LidarOdometry::Impl {
   std::vector<Match> planes, edges;
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
-  // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
-  FeatureExtractor feature_extractor;
+  FeatureExtractor feature_extractor;  // these buffers are kept across scans (no heap churn)
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
 
-  // The first scan when deskewing: it cannot be deskewed (no motion known yet), so it seeds the
-  // map raw and is kept here, taken at T_w_s_seed, until the next scan is registered.
+  // Deskewing: the first scan seeds the map raw, kept here (at T_w_s_seed) until the next one.
   std::optional<ScanFeatures> seed;
   SE3d T_w_s_seed;
 };
@@ -365,8 +353,7 @@ void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) co
   DeskewScanPoints(T_s_prev_s, options_.features.scan_period, features);
 }
 
-// One solve from result->T_w_s on the current correspondences; the solution is remapped to the
-// prediction along degenerate directions. False (error set) when the solver fails.
+// One solve from result->T_w_s, remapped to the prediction along degenerate directions.
 bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   const LidarOdometryOptions& o = options_;
   auto& residuals = impl_->residuals;
@@ -387,8 +374,7 @@ bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
     result->error = "solver failed: " + summary.message;
     return false;
   }
-  // Degeneracy from the solver's normal equations at the solution (independent rows: a plane
-  // gives 1, an edge 2); keep the prediction along poorly constrained directions.
+  // Degeneracy from the normal equations at the solution (rows: a plane 1, an edge 2).
   const int rows = static_cast<int>(impl_->planes.size() + 2 * impl_->edges.size());
   result->degeneracy = AnalyseDegeneracy(summary.normal_equations.H, rows, impl_->criterion);
   result->T_w_s =
@@ -420,10 +406,9 @@ void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* 
   result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
 }
 
-// The seed scan, raw in the map, and this scan, registered raw against it (both distorted alike
-// by the sweep): both are deskewed with the motion between them (constant velocity) and the map is
-// rebuilt from them. Without this step the raw first scan stays in the map and the deskewed
-// second one is registered against it. Measured on 40 distorted sweeps (RPE over 39 pairs):
+// The seed scan, raw in the map, and this scan, registered raw against it (both distorted alike):
+// both are deskewed with the motion between them and the map rebuilt from them (else the raw
+// first scan stays in the map). Measured on 40 distorted sweeps (RPE over 39 pairs):
 //   plucker sim lidar --out sim_dist --scene urban --frames 40 --sensor vlp32 --distortion
 //   plucker lidar --data sim_dist --out dist.txt && plucker eval rpe --gt sim_dist/poses.txt
 //   --est dist.txt

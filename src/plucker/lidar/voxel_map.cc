@@ -106,23 +106,20 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   float worst = static_cast<float>(max_distance * max_distance);
   const Eigen::Vector3f q = query_w.cast<float>();
   const Eigen::Vector3i c = VoxelOf(query_w, inv_size_);
-  // Offsets of the query inside its voxel, to bound the distance to each neighbouring voxel.
   const Eigen::Vector3d local = query_w * inv_size_ - c.cast<double>();
   const double size_sq = options_.voxel_size * options_.voxel_size;
-  // Squared distance to the nearest point not returned: beyond the 27 voxels, then below.
+  // Squared distance to the nearest point not returned (`local`: the query inside its voxel).
   const double margin = std::min(local.minCoeff(), 1.0 - local.maxCoeff()) + 1.0;
   float beyond = static_cast<float>(margin * margin * size_sq);
-  // gap[a][o + 1]: squared distance (m^2) along axis a to the voxel at offset o on that axis.
-  float gap[3][3];
-  for (int a = 0; a < 3; ++a) {
-    gap[a][0] = static_cast<float>(local(a) * local(a) * size_sq);
-    gap[a][1] = 0.0f;
-    gap[a][2] = static_cast<float>((1.0 - local(a)) * (1.0 - local(a)) * size_sq);
-  }
   auto scan_voxel = [&](const Eigen::Vector3i& offset) {
-    const float gap_sq = gap[0][offset.x() + 1] + gap[1][offset.y() + 1] + gap[2][offset.z() + 1];
-    if (gap_sq > worst) {
-      beyond = std::min(beyond, gap_sq);
+    // Squared distance from the query to the voxel's box (in voxel units, then metres).
+    double gap_sq = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double g = offset(a) < 0 ? local(a) : (offset(a) > 0 ? 1.0 - local(a) : 0.0);
+      gap_sq += g * g;
+    }
+    if (gap_sq * size_sq > worst) {
+      beyond = std::min(beyond, static_cast<float>(gap_sq * size_sq));
       return;
     }
     const auto it = voxels_.find(PackVoxel(c + offset));
