@@ -17,6 +17,8 @@
 #     --kitti-correction  pass KISS-ICP's KITTI vertical-angle correction (off by default: the
 #                         registration pipeline alone, which favours KISS-ICP's time)
 #     --keep DIR          keep the pose files of the last run in DIR
+#     --baseline PATH     also time this second plucker (e.g. the previous commit's) in every
+#                         run, so that both ratios come from the same runs (rows "base")
 set -euo pipefail
 
 runs=5
@@ -26,6 +28,7 @@ plucker="$repo/build/release/apps/plucker/plucker"
 kiss="${KISS_DRIVER:-$repo/../kiss-build/kiss_driver}"
 kiss_extra=()
 keep=""
+baseline=""
 data=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -35,13 +38,14 @@ while [ $# -gt 0 ]; do
     --kiss) kiss="$2"; shift 2 ;;
     --kitti-correction) kiss_extra+=(--kitti-correction); shift ;;
     --keep) keep="$2"; shift 2 ;;
+    --baseline) baseline="$2"; shift 2 ;;
     -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     -*) echo "compare_kiss_icp: unknown option $1" >&2; exit 2 ;;
     *) data="$1"; shift ;;
   esac
 done
 if [ -z "$data" ]; then echo "compare_kiss_icp: DATA_DIR missing (see --help)" >&2; exit 2; fi
-for exe in "$plucker" "$kiss"; do
+for exe in "$plucker" "$kiss" ${baseline:+"$baseline"}; do
   if [ ! -x "$exe" ]; then echo "compare_kiss_icp: $exe: not an executable" >&2; exit 2; fi
 done
 scans="$data/velodyne"
@@ -60,6 +64,7 @@ measure() {
   awk '{ printf "%d %d\n", $1 * 1e6, ($2 + $3) * 1e6 }' "$tmp/time.txt"
 }
 run_plucker() { measure taskset -c "$cpu" "$plucker" lidar --data "$data" --out "$tmp/plucker.txt" --quiet; }
+run_base() { measure taskset -c "$cpu" "$baseline" lidar --data "$data" --out "$tmp/base.txt" --quiet; }
 run_kiss() { measure taskset -c "$cpu" "$kiss" "$data" -o "$tmp/kiss.txt" --threads 1 --quiet "${kiss_extra[@]}"; }
 per_frame() { awk -v us="$1" -v n="$frames" 'BEGIN { printf "%.2f", us / 1000 / n }'; }
 
@@ -68,9 +73,11 @@ echo "load before: $(uptime | sed 's/.*load average/load average/')"
 printf "%-6s %10s %10s %8s   %10s %10s %8s\n" run "plucker" "kiss-icp" "ratio" "plucker" \
   "kiss-icp" "ratio"
 printf "%-6s %30s   %30s\n" "" "wall ms per frame" "CPU ms per frame"
-pw=(); kw=(); rw=(); pc=(); kc=(); rc=()
+pw=(); kw=(); rw=(); pc=(); kc=(); rc=(); bw=(); bc=(); rbw=(); rbc=()
 for ((r = 1; r <= runs; r++)); do
+  if [ -n "$baseline" ] && (( r % 2 )); then b=$(run_base); fi
   if (( r % 2 )); then p=$(run_plucker); k=$(run_kiss); else k=$(run_kiss); p=$(run_plucker); fi
+  if [ -n "$baseline" ] && ! (( r % 2 )); then b=$(run_base); fi
   read -r p_wall p_cpu <<<"$p"
   read -r k_wall k_cpu <<<"$k"
   pw+=("$(per_frame "$p_wall")"); kw+=("$(per_frame "$k_wall")")
@@ -79,11 +86,25 @@ for ((r = 1; r <= runs; r++)); do
   rc+=("$(awk -v a="$k_cpu" -v b="$p_cpu" 'BEGIN { printf "%.2f", a / b }')")
   printf "%-6d %10s %10s %7sx   %10s %10s %7sx\n" "$r" "${pw[-1]}" "${kw[-1]}" "${rw[-1]}" \
     "${pc[-1]}" "${kc[-1]}" "${rc[-1]}"
+  if [ -n "$baseline" ]; then
+    read -r b_wall b_cpu <<<"$b"
+    bw+=("$(per_frame "$b_wall")"); bc+=("$(per_frame "$b_cpu")")
+    rbw+=("$(awk -v a="$k_wall" -v b="$b_wall" 'BEGIN { printf "%.2f", a / b }')")
+    rbc+=("$(awk -v a="$k_cpu" -v b="$b_cpu" 'BEGIN { printf "%.2f", a / b }')")
+    printf "%-6s %10s %10s %7sx   %10s %10s %7sx\n" "base" "${bw[-1]}" "${kw[-1]}" "${rbw[-1]}" \
+      "${bc[-1]}" "${kc[-1]}" "${rbc[-1]}"
+  fi
 done
 median() { printf "%s\n" "$@" | sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else printf "%.2f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 printf "%-6s %10s %10s %7sx   %10s %10s %7sx\n" median "$(median "${pw[@]}")" \
   "$(median "${kw[@]}")" "$(median "${rw[@]}")" "$(median "${pc[@]}")" "$(median "${kc[@]}")" \
   "$(median "${rc[@]}")"
+if [ -n "$baseline" ]; then
+  printf "%-6s %10s %10s %7sx   %10s %10s %7sx\n" "median" "$(median "${bw[@]}")" \
+    "$(median "${kw[@]}")" "$(median "${rbw[@]}")" "$(median "${bc[@]}")" "$(median "${kc[@]}")" \
+    "$(median "${rbc[@]}")"
+  echo "(the second median row: the baseline $baseline)"
+fi
 echo "ratio = KISS-ICP time / plucker time (> 1: plucker is faster)"
 echo "load after: $(uptime | sed 's/.*load average/load average/')"
 if [ -n "$keep" ]; then mkdir -p "$keep" && cp "$tmp/plucker.txt" "$tmp/kiss.txt" "$keep/"; fi

@@ -8,8 +8,7 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-// Pseudo-inverse of a symmetric positive semi-definite 3x3 matrix (eigenvalues below 1e-12 of
-// the largest are treated as zero).
+// Pseudo-inverse of a symmetric PSD 3x3 matrix (eigenvalues < 1e-12 of the largest: zero).
 Eigen::Matrix3d PseudoInverse(const Eigen::Matrix3d& A) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(A);
   const Eigen::Vector3d mu = solver.eigenvalues();
@@ -97,8 +96,7 @@ SE3d RemapSolution(const SE3d& T_prior, const SE3d& T_solution, const Degeneracy
   if (k == 6) return T_prior;
   C.conservativeResize(6, k);
   const Vector6d delta = T_solution.Minus(T_prior);
-  // H^-1 C with a tiny per-block regularisation (H is singular along an exact degeneracy; the
-  // constraint C^T delta' = 0 holds exactly whatever the regularisation).
+  // H^-1 C, regularised per block (H may be singular; C^T delta' = 0 holds exactly anyway).
   Matrix6d H = info.information;
   const double scale_r = std::max(H.topLeftCorner<3, 3>().trace() / 3.0, 1e-300);
   const double scale_t = std::max(H.bottomRightCorner<3, 3>().trace() / 3.0, 1e-300);

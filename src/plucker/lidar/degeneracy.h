@@ -1,23 +1,11 @@
-// Degeneracy of scan-to-map registration (after Zhang, Kaess and Singh, "On degeneracy of
-// optimization-based state estimation problems", ICRA 2016), with a noise-robust, unit-free
-// criterion. docs/math/lidar-odometry.md, "Normal equations and degeneracy", derives it and has
-// the measurements behind every threshold.
-//
-// Input: the normal equations H = sum_i w_i J_i^T J_i of the solution (SolvePose returns them;
-// tangent (dtheta, dt), residuals in units of their sigma), normalised by the number of residual
-// rows N: H_n = H / N. Rotation and translation are analysed apart, each after marginalising the
-// other: S_t = H_tt - H_rt^T H_rr^-1 H_rt, S_r = H_rr - H_rt H_tt^-1 H_rt^T, eigenvalues
-// mu0 <= mu1 <= mu2. A direction is flagged when its eigen-gap to the next stronger direction,
-//   ratio(mu2) = 1,  ratio(mu1) = mu1 / mu2,  ratio(mu0) = min(mu0 / mu1, mu1 / mu2),
-// is below the block's threshold AND its information is below the block's ceiling (which keeps
-// an open square with a dominant ground plane unflagged). The ratios do not change with a global
-// scaling of H (sigma, N, the number of points).
-//
-// Solution remapping: along the flagged directions C (6 x k) the prior (the constant-velocity
-// prediction) is kept, and the other coordinates take the value the quadratic model H gives under
-// that constraint: with delta = T_solution - T_prior,
-//   delta' = delta - H^-1 C (C^T H^-1 C)^-1 C^T delta,   so C^T delta' = 0
-// (for a direction decoupled from the others, the orthogonal projection of Zhang et al.).
+// Degeneracy of scan-to-map registration (after Zhang, Kaess and Singh, ICRA 2016) with a
+// unit-free criterion; docs/math/lidar-odometry.md ("Normal equations and degeneracy") derives it
+// and has the measurements behind every threshold. From the solution's normal equations over N
+// rows, H_n = H / N (tangent (dtheta, dt)), rotation and translation are analysed apart, each
+// after marginalising the other (Schur complements, eigenvalues mu0 <= mu1 <= mu2); a direction
+// is flagged when its eigen-gap ratio (1, mu1 / mu2, min(mu0 / mu1, mu1 / mu2)) is below the
+// block's threshold AND its information below the block's ceiling. Remapping keeps the prior
+// along the flagged directions C: delta' = delta - H^-1 C (C^T H^-1 C)^-1 C^T delta.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,12 +20,11 @@ struct DegeneracyInfo {
   bool degenerate = false;
   int num_degenerate_directions = 0;  // rotation + translation directions flagged
   int num_degenerate_rotations = 0, num_degenerate_translations = 0;
-  // Of H_n (reported for diagnostics; the criterion uses the blocks below), ascending.
+  // Of H_n (diagnostics only), ascending.
   Vector6d eigenvalues = Vector6d::Zero();
   Matrix6d eigenvectors = Matrix6d::Identity();  // columns, same order
-  // Per block: eigenvalues of the Schur complement (ascending; m^2 / sigma^2 for rotation,
-  // 1 / sigma^2 for translation, per row), its eigenvectors (columns, same order) and the
-  // criterion's ratio of each (1 for the strongest, 0 when the block is empty).
+  // Per block: Schur complement eigenvalues (ascending, per row), eigenvectors (columns) and
+  // the criterion's ratio of each (1 for the strongest, 0 when the block is empty).
   Eigen::Vector3d rotation_information = Eigen::Vector3d::Zero();
   Eigen::Vector3d translation_information = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation_directions = Eigen::Matrix3d::Identity();

@@ -1,11 +1,8 @@
-// Motion compensation (deskew) of the points of one sweep with a constant-velocity model.
-//
-// A point p observed at time t in [0, period] (seconds from the scan start) is expressed in the
-// sensor frame at the scan start (the frame of the scan pose T_w_s):
+// Motion compensation (deskew) of one sweep with a constant-velocity model: a point p seen at
+// time t (seconds from the scan start) goes to the scan-start frame (that of T_w_s) as
 //   p_start = T_start_t * p,  T_start_t = (Exp(a * Log(R)), a * t_motion),  a = t / period,
-// where (R, t_motion) = T_start_end is the motion over one period (the constant-velocity
-// prediction T_{k-1}^-1 T_k). This is the SO(3) x R(3) interpolation of the project's pose
-// convention; for the small motions of one sweep it matches the SE(3) geodesic to first order.
+// with (R, t_motion) = T_start_end the motion over one period (SO(3) x R(3) interpolation; it
+// matches the SE(3) geodesic to first order for the small motions of one sweep).
 #pragma once
 
 #include <Eigen/Core>

@@ -25,8 +25,7 @@ struct Ring {
   std::vector<int> source;  // index into the scan (for the time channel)
 };
 
-// Relative time of a ring point from its azimuth: the fraction of a revolution swept since the
-// ring's first point, in the ring's rotation direction.
+// Time of a ring point from the azimuth swept since the ring's first point (its direction).
 struct AzimuthClock {
   AzimuthClock(const Ring& ring, double period)
       : period(period), n(ring.p.size()), start(Azimuth(ring.p[0])) {
@@ -56,8 +55,7 @@ struct RingFeatures {
 
   void Clear() {  // keeps the capacity
     for (auto* v : {&sharp, &flat, &edges, &planes}) v->clear();
-    edge_times.clear();
-    plane_times.clear();
+    edge_times.clear(), plane_times.clear();
     occluded_rejected = parallel_rejected = 0;
     used = false;
   }
@@ -90,8 +88,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
   std::vector<Eigen::Vector3d>& prefix = scratch->prefix;
   prefix.resize(n + 1);
-  prefix[0].setZero();
-  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + ring.p[i];
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // a local: no store-to-load chain per point
+  prefix[0] = sum;
+  for (int i = 0; i < n; ++i) prefix[i + 1] = sum += ring.p[i];
   std::vector<double>& curvature = scratch->curvature;
   curvature.assign(n, 0.0);
   for (int i = k; i < n - k; ++i) {
@@ -160,8 +159,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       suppress(i);
     }
 
-    // Flat: the smallest curvatures, by repeated selection (max_flat_per_sector is small).
-    // Branch-free scan: a picked point counts as +inf; the first of equal minima wins.
+    // Flat: the smallest curvatures by repeated branch-free scans (first of equal minima wins).
     for (count = 0; count < o.max_flat_per_sector; ++count) {
       int best = -1;
       double best_curvature = o.plane_threshold;  // candidates are below the threshold
@@ -195,10 +193,9 @@ void Append(const std::vector<T>& from, std::vector<T>* to) {
   to->insert(to->end(), from.begin(), from.end());
 }
 
-// The voxel keys seen by one downsampling (cleared per call, its buckets reused).
 using VoxelSet = tsl::robin_set<std::uint64_t, VoxelKeyHash>;
 
-// VoxelDownsample with a caller-owned set (reused from call to call).
+// VoxelDownsample with a caller-owned set of the voxel keys seen (reused from call to call).
 void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points,
                          std::vector<double>* times, VoxelSet* seen) {
   if (voxel_size <= 0.0 || points->empty()) return;
@@ -207,8 +204,10 @@ void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points
   seen->clear();
   seen->reserve(points->size());
   std::size_t out = 0;
+  std::uint64_t last = ~std::uint64_t{0};  // the previous point's voxel (already in `seen`)
   for (std::size_t i = 0; i < points->size(); ++i) {
-    if (!seen->insert(PackVoxel(VoxelOf((*points)[i], inv))).second) continue;
+    const std::uint64_t key = PackVoxel(VoxelOf((*points)[i], inv));
+    if (key == last || !seen->insert(last = key).second) continue;
     (*points)[out] = (*points)[i];
     if (with_times) (*times)[out] = (*times)[i];
     ++out;
@@ -240,8 +239,7 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
                                ScanFeatures* features, std::string* error) {
   for (auto* v : {&features->sharp, &features->edges, &features->flat, &features->planes})
     v->clear();
-  features->edge_times.clear();
-  features->plane_times.clear();
+  features->edge_times.clear(), features->plane_times.clear();
   features->stats = FeatureStats();
   FeatureStats& stats = features->stats;
   stats.input_points = static_cast<int>(scan.size());
@@ -286,8 +284,7 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
 
   const bool times = o.compute_times;
   stats.times_from_azimuth = times && !has_time;
-  // Rings are independent: in parallel when asked, then concatenated in ring order (the same
-  // result as one thread).
+  // Rings are independent: in parallel when asked, concatenated in ring order (same result).
   std::vector<RingFeatures>& per_ring = buffers_->per_ring;
   if (static_cast<int>(per_ring.size()) < num_rings) per_ring.resize(num_rings);
   if (o.num_threads > 1) {

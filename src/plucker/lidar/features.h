@@ -1,22 +1,15 @@
 // LOAM-style feature extraction from one LiDAR scan (Zhang and Singh, "LOAM: Lidar Odometry and
 // Mapping in Real-time", RSS 2014), written for this project.
 //
-// Per ring, points in firing order:
-//   1. range gating (min_range <= |p| <= max_range, finite points only);
-//   2. curvature c_i = |sum_{j=-k..k, j!=0} (p_{i+j} - p_i)|^2 (m^2) over +-k neighbours
-//      (k = curvature_half_window, 5 as in LOAM) along the ring;
-//   3. rejection of unreliable points as in LOAM: the far side of a depth jump (possibly occluded:
-//      the k points next to the jump on the farther surface), and points on surfaces nearly
-//      parallel to the beam (both neighbours farther than parallel_beam_ratio * range);
-//   4. each ring split into `sectors` equal parts; per sector the points with the largest
-//      curvature above edge_threshold become edge points (`sharp`: up to max_sharp_per_sector;
-//      `edges` also holds up to max_edges_per_sector weaker ones), those with the smallest
-//      curvature below plane_threshold become `flat` (up to max_flat_per_sector); a picked point
-//      suppresses its +-k neighbours (when they are closer than suppression_distance);
-//   5. `planes` = every remaining low-curvature point, voxel-downsampled (plane_voxel_size),
-//      `edges` likewise downsampled with edge_voxel_size.
-// Per-point relative time: the scan's time channel when present, else from the azimuth swept
-// since the ring's first point (fraction of a revolution times scan_period).
+// Per ring, points in firing order: 1. range gating (finite, min_range..max_range); 2. curvature
+// c_i = |sum_{j=-k..k, j!=0} (p_{i+j} - p_i)|^2 (m^2), k = curvature_half_window; 3. LOAM's
+// rejections: the k points on the far side of a depth jump (possibly occluded) and points on
+// surfaces nearly parallel to the beam; 4. per `sectors` equal parts of a ring, the largest
+// curvatures above edge_threshold become `edges` (the strongest also `sharp`), the smallest below
+// plane_threshold `flat`, each pick suppressing its +-k neighbours (closer than
+// suppression_distance); 5. `planes` = every remaining low-curvature point; edges and planes are
+// voxel-downsampled. Per-point time: the scan's time channel, else from the azimuth swept since
+// the ring's first point (fraction of a revolution times scan_period).
 #pragma once
 
 #include <Eigen/Core>

@@ -3,8 +3,9 @@
 #include <ceres/loss_function.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
 #include <optional>
-#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -25,28 +26,75 @@ using sensor::LidarModelFromName;
 
 namespace {
 
-struct PlaneMatch {
-  Eigen::Vector3d p_s, m_w, q_w;
-};
-struct EdgeMatch {
-  Eigen::Vector3d p_s, a_w, u_w;
+// A feature point p_s and its map plane (x_w, normal d_w) or line (x_w, direction d_w).
+struct Match {
+  Eigen::Vector3d p_s, x_w, d_w;
 };
 
-// The covariance of a few points about their mean, eigen-decomposed (ascending eigenvalues).
-Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Fit(const std::vector<Eigen::Vector3d>& pts,
-                                                   Eigen::Vector3d* mean) {
-  *mean = Eigen::Vector3d::Zero();
-  for (const auto& p : pts) *mean += p;
-  *mean /= static_cast<double>(pts.size());
+// Fits the map plane (all nb within plane_max_residual) or line (elongated covariance) of nb.
+bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdometryOptions& o,
+            Match* m) {
+  m->x_w = Eigen::Vector3d::Zero();
+  for (const auto& p : nb) m->x_w += p;
+  m->x_w /= static_cast<double>(nb.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : pts) cov.noalias() += (p - *mean) * (p - *mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(cov / static_cast<double>(pts.size()));
-  return solver;
+  for (const auto& p : nb) cov.noalias() += (p - m->x_w) * (p - m->x_w).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> fit;
+  fit.computeDirect(cov / static_cast<double>(nb.size()));  // ascending eigenvalues
+  m->d_w = fit.eigenvectors().col(plane ? 0 : 2);
+  if (!plane) return fit.eigenvalues()(2) > o.edge_eigen_ratio * fit.eigenvalues()(1);
+  return std::none_of(nb.begin(), nb.end(), [&](const Eigen::Vector3d& q_w) {
+    return std::abs(m->d_w.dot(q_w - m->x_w)) > o.plane_max_residual;
+  });
 }
 
-// Every `stride`-th element so that at most `cap` remain (times alongside when present), in
-// place (element j = floor(i * stride) >= i moves to i).
+constexpr int kCandidates = 8;  // map points searched per feature point in a scan's first round
+constexpr int kMaxNeighbours = 16;
+
+// One feature point's neighbour search, kept over the association rounds of a scan: the k nearest
+// map points of the moved query are taken from the candidates found before when provably nearer
+// than any other map point (`reach` less the distance moved), else searched again; the fit of an
+// unchanged neighbour set is kept. Results equal a fresh search (up to ties).
+struct NeighbourCache {
+  Eigen::Vector3f q_w;  // query of the last search
+  float reach = 0.0f;   // every map point not in `cand` is at least this far from q_w
+  int n = 0;            // candidates, nearest first
+  std::array<Eigen::Vector3f, kMaxNeighbours> cand;
+  unsigned fit_set = 0;  // bit mask of the candidates `match` was fitted to (0: none)
+  bool matched = false;  // the fit gave a match
+  Match match;
+};
+
+// The k nearest map points within max_d of q_w into *nb, nearest first, from the cache when it
+// proves them (never after a reset). Returns their bit mask over c->cand.
+unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double max_d,
+                 NeighbourCache* c, std::vector<Eigen::Vector3d>* nb) {
+  const Eigen::Vector3f q = q_w.cast<float>();
+  std::array<std::pair<float, int>, kMaxNeighbours> d;
+  for (int j = 0; j < c->n; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
+  const int m = std::min(k, c->n);
+  std::partial_sort(d.begin(), d.begin() + m, d.begin() + c->n);
+  int count = 0;
+  while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
+  const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
+  if (bound + (q - c->q_w).norm() < c->reach * (1.0f - 1e-5f)) {  // reach 0 after a reset
+    unsigned set = 0;
+    nb->resize(count);
+    for (int j = 0; j < count; ++j) {
+      (*nb)[j] = c->cand[d[j].second].cast<double>();
+      set |= 1u << d[j].second;
+    }
+    return set;
+  }
+  c->n = map.KNearest(q_w, std::max(k, kCandidates), max_d, nb, &c->reach);
+  for (int j = 0; j < c->n; ++j) c->cand[j] = (*nb)[j].cast<float>();
+  c->q_w = q;
+  c->fit_set = 0;
+  nb->resize(std::min(k, c->n));
+  return (1u << nb->size()) - 1;
+}
+
+// Every `stride`-th element (and time, if any) so that at most `cap` remain, in place.
 void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>* times) {
   if (cap <= 0 || static_cast<int>(v->size()) <= cap) return;
   const bool with_times = times->size() == v->size();
@@ -60,8 +108,7 @@ void StrideSample(int cap, std::vector<Eigen::Vector3d>* v, std::vector<double>*
   if (with_times) times->resize(cap);
 }
 
-// Moves the feature points measured along a sweep to its start frame (constant velocity over one
-// period, T_s_start_s_end the motion over the sweep).
+// Deskews the feature points with the motion over the sweep T_s_start_s_end.
 void DeskewScanPoints(const SE3d& T_s_start_s_end, double period, ScanFeatures* f) {
   DeskewPoints(T_s_start_s_end, period, f->edge_times, &f->edges);
   DeskewPoints(T_s_start_s_end, period, f->plane_times, &f->planes);
@@ -77,8 +124,7 @@ void Notify(const StageObserver& observer, Stage stage) {
   if (observer) observer(stage);
 }
 
-// The scan's features, capped to max_edge_points / max_plane_points (with per-point times when
-// deskewing).
+// The scan's features capped to max_edge_points / max_plane_points (times when deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
                          FeatureExtractor* extractor, ScanFeatures* features, std::string* error) {
   FeatureOptions feature_options = o.features;
@@ -105,64 +151,57 @@ class LidarOdometry::Impl {
     criterion.max_rotation_information = o.degeneracy_max_rotation_information;
   }
 
-  // matches = the successful match(point) over `points`, in point order; in parallel chunks when
-  // num_threads > 1 (the same result either way).
-  template <typename Match, typename MatchFn>
-  void FindMatches(const std::vector<Eigen::Vector3d>& points, const MatchFn& match_fn,
+  // matches = the successful match_fn(plane, i), i < n, in order (in parallel: the same result).
+  template <typename MatchFn>
+  void FindMatches(std::size_t n, bool plane, const MatchFn& match_fn,
                    std::vector<Match>* matches) {
     matches->clear();
     if (!arena) {
       Match m;
-      for (const Eigen::Vector3d& p : points)
-        if (match_fn(p, &neighbours, &m)) matches->push_back(m);
+      for (std::size_t i = 0; i < n; ++i)
+        if (match_fn(plane, i, &neighbours, &m)) matches->push_back(m);
       return;
     }
     constexpr std::size_t kChunk = 256;
-    const std::size_t chunks = (points.size() + kChunk - 1) / kChunk;
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
     std::vector<std::vector<Match>> parts(chunks);
     arena->execute([&] {
       tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::vector<Eigen::Vector3d> nb;
         Match m;
-        for (std::size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i)
-          if (match_fn(points[i], &nb, &m)) parts[c].push_back(m);
+        for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+          if (match_fn(plane, i, &nb, &m)) parts[c].push_back(m);
       });
     });
     for (const auto& part : parts) matches->insert(matches->end(), part.begin(), part.end());
   }
 
-  // Plane and edge correspondences (this->planes, this->edges) of the scan's feature points at
-  // the estimate T_w_s: the k nearest map points, a plane if all lie within plane_max_residual of
-  // their fitted plane, an edge if their covariance is elongated. Returns how many were found.
+  // Plane and edge correspondences (this->planes, this->edges) at T_w_s: k nearest map points
+  // (NeighbourCache, reset in the first round) and their fit (FitMap). Returns how many.
   int FindCorrespondences(const VoxelMap& edge_map, const VoxelMap& plane_map,
-                          const ScanFeatures& points_s, const SE3d& T_w_s,
+                          const ScanFeatures& points_s, const SE3d& T_w_s, bool first_round,
                           const LidarOdometryOptions& o) {
-    const int k = std::min(o.num_neighbours, 16);
+    const int k = std::min(o.num_neighbours, kMaxNeighbours);
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
-    const double edge_max_d = std::min(max_d, edge_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    auto match_plane = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                           PlaneMatch* match) {
-      if (plane_map.KNearest(R_w_s * p_s + t_w_s, k, max_d, nb) < k) return false;
-      Eigen::Vector3d mean;
-      const Eigen::Vector3d m_w = Fit(*nb, &mean).eigenvectors().col(0);
-      for (const auto& q_w : *nb)
-        if (std::abs(m_w.dot(q_w - mean)) > o.plane_max_residual) return false;
-      *match = {p_s, m_w, mean};
-      return true;
+    if (first_round) plane_cache.assign(points_s.planes.size(), {});
+    if (first_round) edge_cache.assign(points_s.edges.size(), {});
+    auto match = [&](bool plane, std::size_t i, std::vector<Eigen::Vector3d>* nb, Match* m) {
+      NeighbourCache& c = (plane ? plane_cache : edge_cache)[i];
+      const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];
+      const VoxelMap& map = plane ? plane_map : edge_map;
+      const double d = std::min(max_d, map.options().voxel_size);
+      const unsigned set = Nearest(map, R_w_s * p_s + t_w_s, k, d, &c, nb);
+      if (static_cast<int>(nb->size()) < k) return false;
+      if (set != c.fit_set) c.matched = FitMap(*nb, plane, o, &c.match);
+      c.fit_set = set;
+      *m = c.match;
+      m->p_s = p_s;
+      return c.matched;
     };
-    auto match_edge = [&](const Eigen::Vector3d& p_s, std::vector<Eigen::Vector3d>* nb,
-                          EdgeMatch* match) {
-      if (edge_map.KNearest(R_w_s * p_s + t_w_s, k, edge_max_d, nb) < k) return false;
-      Eigen::Vector3d mean;
-      const auto fit = Fit(*nb, &mean);
-      if (fit.eigenvalues()(2) <= o.edge_eigen_ratio * fit.eigenvalues()(1)) return false;
-      *match = {p_s, mean, fit.eigenvectors().col(2)};
-      return true;
-    };
-    FindMatches(points_s.planes, match_plane, &planes);
-    FindMatches(points_s.edges, match_edge, &edges);
+    FindMatches(points_s.planes.size(), true, match, &planes);
+    FindMatches(points_s.edges.size(), false, match, &edges);
     return static_cast<int>(planes.size() + edges.size());
   }
 
@@ -171,17 +210,15 @@ class LidarOdometry::Impl {
   DegeneracyCriterion criterion;
   std::optional<LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
-  std::vector<PlaneMatch> planes;
-  std::vector<EdgeMatch> edges;
+  std::vector<Match> planes, edges;
+  std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
-  // Per-scan buffers kept across scans (no multi-MB allocation per scan on long sequences).
-  FeatureExtractor feature_extractor;
+  FeatureExtractor feature_extractor;  // these buffers are kept across scans (no heap churn)
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
 
-  // The first scan when deskewing: it cannot be deskewed (no motion known yet), so it seeds the
-  // map raw and is kept here, taken at T_w_s_seed, until the next scan is registered.
+  // Deskewing: the first scan seeds the map raw, kept here (at T_w_s_seed) until the next one.
   std::optional<ScanFeatures> seed;
   SE3d T_w_s_seed;
 };
@@ -288,7 +325,7 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
     Notify(observer, Stage::kCorrespondences);
     if (round > 0 && result->deskewed) DeskewFeatures(result->T_w_s, features);
     const int found =
-        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, o);
+        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, round == 0, o);
     result->plane_correspondences = static_cast<int>(impl_->planes.size());
     result->edge_correspondences = static_cast<int>(impl_->edges.size());
     result->ok = found >= o.min_correspondences;
@@ -316,17 +353,16 @@ void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) co
   DeskewScanPoints(T_s_prev_s, options_.features.scan_period, features);
 }
 
-// One solve from result->T_w_s on the current correspondences; the solution is remapped to the
-// prediction along degenerate directions. False (error set) when the solver fails.
+// One solve from result->T_w_s, remapped to the prediction along degenerate directions.
 bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   const LidarOdometryOptions& o = options_;
   auto& residuals = impl_->residuals;
   residuals.clear();
-  for (const PlaneMatch& m : impl_->planes)
-    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.m_w, m.q_w, o.plane_sigma));
-  for (const EdgeMatch& m : impl_->edges)
+  for (const Match& m : impl_->planes)
+    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
+  for (const Match& m : impl_->edges)
     residuals.emplace_back(
-        PointToEdgeFactor::CreateFromDirection(m.p_s, m.a_w, m.u_w, o.edge_sigma));
+        PointToEdgeFactor::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
   PoseSolverOptions solver_options;
   solver_options.max_iterations = o.max_iterations;
   SE3d T_w_s = result->T_w_s;
@@ -338,8 +374,7 @@ bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
     result->error = "solver failed: " + summary.message;
     return false;
   }
-  // Degeneracy from the solver's normal equations at the solution (independent rows: a plane
-  // gives 1, an edge 2); keep the prediction along poorly constrained directions.
+  // Degeneracy from the normal equations at the solution (rows: a plane 1, an edge 2).
   const int rows = static_cast<int>(impl_->planes.size() + 2 * impl_->edges.size());
   result->degeneracy = AnalyseDegeneracy(summary.normal_equations.H, rows, impl_->criterion);
   result->T_w_s =
@@ -371,10 +406,9 @@ void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* 
   result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
 }
 
-// The seed scan, raw in the map, and this scan, registered raw against it (both distorted alike
-// by the sweep): both are deskewed with the motion between them (constant velocity) and the map is
-// rebuilt from them. Without this step the raw first scan stays in the map and the deskewed
-// second one is registered against it. Measured on 40 distorted sweeps (RPE over 39 pairs):
+// The seed scan, raw in the map, and this scan, registered raw against it (both distorted alike):
+// both are deskewed with the motion between them and the map rebuilt from them (else the raw
+// first scan stays in the map). Measured on 40 distorted sweeps (RPE over 39 pairs):
 //   plucker sim lidar --out sim_dist --scene urban --frames 40 --sensor vlp32 --distortion
 //   plucker lidar --data sim_dist --out dist.txt && plucker eval rpe --gt sim_dist/poses.txt
 //   --est dist.txt

@@ -1,21 +1,16 @@
 // LOAM-style LiDAR odometry: features (lidar/features.h), scan-to-map registration against a
-// bounded local voxel map with the analytic point-to-edge and point-to-plane factors
-// (factors/lidar_factors.h), a robust loss, and degeneracy handling (lidar/degeneracy.h). No
-// file I/O, no clocks: scans in, poses and statistics out; the caller times the stages through
-// an optional StageObserver.
-//
-// ProcessScan, per scan (after rings and features):
+// bounded voxel map with the analytic point-to-edge/plane factors (factors/lidar_factors.h), a
+// robust loss and degeneracy handling (lidar/degeneracy.h). No file I/O, no clocks: the caller
+// times the stages through an optional StageObserver. ProcessScan, after rings and features:
 //   1. predict: T_w_s_pred = T_w_s_prev T_s_prev2_s_prev (constant velocity, PredictPose);
-//   2. deskew (scans with per-point time): feature points to the scan-start frame with the sweep
-//      motion T_s_prev_s = T_w_s_prev^-1 T_w_s of the current estimate T_w_s;
-//   3. register, association_rounds times (up to max_association_rounds while the pose still
-//      moves more than the convergence thresholds): re-deskew, correspond (5 nearest map
-//      points: an edge if their covariance is elongated, a plane if all lie within
-//      plane_max_residual of their plane), solve (lidar/pose_solver.h), remap the solution
-//      along the degenerate directions of the solver's normal equations;
+//   2. deskew (scans with per-point time) with the sweep motion T_w_s_prev^-1 T_w_s;
+//   3. register, association_rounds times (up to max_association_rounds while the pose moves
+//      more than the convergence thresholds): re-deskew, correspond (nearest map points: an
+//      edge if their covariance is elongated, a plane if all lie within plane_max_residual of
+//      it), solve (lidar/pose_solver.h), remap along degenerate directions;
 //   4. update the map (UpdateLocalMap), dropping far voxels every map_cleanup_every frames. When
-//      deskewing, the first scan seeds the map raw; once the second is registered, both are
-//      deskewed and the map rebuilt (odometry.cc: RebuildMapFromSeed).
+//      deskewing, the first scan seeds the map raw; after the second both are deskewed and the
+//      map rebuilt (odometry.cc: RebuildMapFromSeed).
 #pragma once
 
 #include <functional>
@@ -67,11 +62,10 @@ struct LidarOdometryOptions {
   int max_edge_points = 1000;              // cap on edge points used per scan (stride sampling)
   int max_plane_points = 3000;             // cap on plane points used per scan
   int min_correspondences = 30;            // fewer -> the scan keeps the predicted pose
-  // Degeneracy (degeneracy.h; docs/math/lidar-odometry.md has the measurements). Rotation flags
-  // are off by default: in the simulated streets they flagged well-determined yaw.
+  // Degeneracy (degeneracy.h, docs/math/lidar-odometry.md). Rotation flags are off by default
+  // (they flagged well-determined yaw in the simulated streets). Translation ceiling: the mean
+  // squared normal component along the direction, (3.3 deg)^2, used / plane_sigma^2.
   double degeneracy_threshold = 0.03;  // translation eigen-gap ratio
-  // Translation ceiling: the mean squared component of the rows' plane normals along the
-  // direction, 0.00325 ~ (3.3 deg)^2; the criterion uses it / plane_sigma^2 (1.3 at 5 cm).
   double degeneracy_max_normal_alignment = 0.00325;
   double degeneracy_rotation_threshold = 0.0;          // rotation eigen-gap ratio (0: off)
   double degeneracy_max_rotation_information = 1e300;  // m^2/sigma^2 per row

@@ -1,13 +1,10 @@
 // Robust Levenberg-Marquardt over one scan pose T_w_s, for scan-to-map registration.
 //
 // Minimises F(T) = 1/2 sum_i rho(|r_i(T)|^2), each r_i a ceres::CostFunction of at most 3 rows on
-// the 7-value pose block (the analytic factors of factors/lidar_factors.h), rho a
-// ceres::LossFunction (nullptr: rho(s) = s). Steps live in the tangent of the PoseManifold:
-// J = J_ambient PlusJacobian(x), T <- Plus(T, dx). Each iteration solves the reweighted normal
-// equations (H + lambda diag(H)) dx = -g (H, g below) and accepts the step when F decreases
-// (lambda / 10), else retries with lambda * 10. Not ceres::Solve: for one 6-dof block and a few
-// thousand residuals its generic machinery costs several ms per scan; this loop evaluates the
-// same cost functions to the same minimum (PoseSolverTest.MatchesCeresSolve).
+// the 7-value pose block (factors/lidar_factors.h), rho a ceres::LossFunction (nullptr: rho(s) =
+// s), in the tangent of the PoseManifold: each iteration solves (H + lambda diag(H)) dx = -g and
+// keeps the step when F decreases (lambda / 10), else lambda * 10. ceres::Solve reaches the same
+// minimum (PoseSolverTest.MatchesCeresSolve) at several ms more per scan.
 #pragma once
 
 #include <ceres/cost_function.h>

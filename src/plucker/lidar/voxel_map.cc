@@ -97,7 +97,7 @@ void VoxelMap::RemoveFar(const Eigen::Vector3d& origin_w) {
 }
 
 int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distance,
-                       std::vector<Eigen::Vector3d>* neighbours) const {
+                       std::vector<Eigen::Vector3d>* neighbours, float* reach) const {
   constexpr int kMaxK = 16;
   k = std::min(k, kMaxK);
   std::array<float, kMaxK> best_d;
@@ -106,9 +106,11 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   float worst = static_cast<float>(max_distance * max_distance);
   const Eigen::Vector3f q = query_w.cast<float>();
   const Eigen::Vector3i c = VoxelOf(query_w, inv_size_);
-  // Offsets of the query inside its voxel, to bound the distance to each neighbouring voxel.
   const Eigen::Vector3d local = query_w * inv_size_ - c.cast<double>();
   const double size_sq = options_.voxel_size * options_.voxel_size;
+  // Squared distance to the nearest point not returned (`local`: the query inside its voxel).
+  const double margin = std::min(local.minCoeff(), 1.0 - local.maxCoeff()) + 1.0;
+  float beyond = static_cast<float>(margin * margin * size_sq);
   auto scan_voxel = [&](const Eigen::Vector3i& offset) {
     // Squared distance from the query to the voxel's box (in voxel units, then metres).
     double gap_sq = 0.0;
@@ -116,14 +118,21 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
       const double g = offset(a) < 0 ? local(a) : (offset(a) > 0 ? 1.0 - local(a) : 0.0);
       gap_sq += g * g;
     }
-    if (gap_sq * size_sq > worst) return;
+    if (gap_sq * size_sq > worst) {
+      beyond = std::min(beyond, static_cast<float>(gap_sq * size_sq));
+      return;
+    }
     const auto it = voxels_.find(PackVoxel(c + offset));
     if (it == voxels_.end()) return;
     const Eigen::Vector3f* stored = SlotPoints(it->second.slot);
     for (std::uint32_t i = 0; i < it->second.count; ++i) {
       const Eigen::Vector3f& p = stored[i];
       const float d = (p - q).squaredNorm();
-      if (d > worst) continue;
+      if (d > worst) {
+        beyond = std::min(beyond, d);
+        continue;
+      }
+      if (count == k) beyond = std::min(beyond, best_d[k - 1]);
       int j = count < k ? count++ : k - 1;  // insertion into the sorted list
       while (j > 0 && best_d[j - 1] > d) {
         best_d[j] = best_d[j - 1];
@@ -142,6 +151,7 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
         if (dx || dy || dz) scan_voxel(Eigen::Vector3i(dx, dy, dz));
   neighbours->resize(count);
   for (int i = 0; i < count; ++i) (*neighbours)[i] = best_p[i].cast<double>();
+  if (reach) *reach = std::sqrt(beyond);
   return count;
 }
 

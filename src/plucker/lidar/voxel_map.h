@@ -1,15 +1,10 @@
 // Bounded local map for scan-to-map registration: a voxel hash (tsl::robin_map) of cubic voxels,
-// each holding at most `max_points_per_voxel` points that are at least `min_point_distance` apart
-// (an incremental voxel downsampling: the map never stores denser than that). Voxels farther
-// than `max_distance` from the current sensor position are dropped by RemoveFar(), so memory is
-// bounded by the volume of the kept region whatever the sequence length.
-//
-// Nearest neighbours: the query's voxel and its 26 neighbours are scanned, so every point within
-// `voxel_size` of the query is found (KNearest's max_distance must be <= voxel_size).
-//
-// Storage does not churn the heap (a std::vector per voxel fragmented it on long drives): every
-// voxel owns a slot of max_points_per_voxel points (12 bytes each) in a pool of ~256 KB blocks
-// that only grows, and new voxels reuse the slots of removed ones.
+// each holding at most `max_points_per_voxel` points at least `min_point_distance` apart. Voxels
+// farther than `max_distance` from the sensor are dropped by RemoveFar() (memory bounded by the
+// kept region). KNearest scans the query's voxel and its 26 neighbours (max_distance <=
+// voxel_size). Storage does not churn the heap (a std::vector per voxel fragmented it on long
+// drives): each voxel owns a slot of 12-byte points in a pool of ~256 KB blocks that only grows;
+// new voxels reuse the slots of removed ones.
 #pragma once
 
 #include <tsl/robin_map.h>
@@ -76,9 +71,10 @@ class VoxelMap {
   void RemoveFar(const Eigen::Vector3d& origin_w);
 
   // Up to k nearest stored points within max_distance (<= voxel_size) of `query_w`, sorted by
-  // distance. Returns how many were written into `neighbours` (resized to the count).
+  // distance. Returns how many were written into `neighbours` (resized to the count). `reach`:
+  // a lower bound of the distance from query_w to every stored point not returned.
   int KNearest(const Eigen::Vector3d& query_w, int k, double max_distance,
-               std::vector<Eigen::Vector3d>* neighbours) const;
+               std::vector<Eigen::Vector3d>* neighbours, float* reach = nullptr) const;
 
   std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return voxels_.size(); }

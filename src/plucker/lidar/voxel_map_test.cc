@@ -33,6 +33,43 @@ TEST(VoxelMapTest, KNearestMatchesBruteForce) {
   }
 }
 
+// KNearest's `reach` (what lets the odometry reuse a search in its later rounds) is a lower bound
+// of the distance to every point it did not return, for dense and for sparse neighbourhoods
+// (fewer than k points within max_distance), and not a vacuous one.
+TEST(VoxelMapTest, KNearestReachBoundsEveryPointNotReturned) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-6, 6);
+  for (const int num_points : {20000, 300}) {
+    VoxelMap map({1.0, 1000, 0.0, 1e9});
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < num_points; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+    ASSERT_EQ(map.AddPoints(pts), num_points);
+    std::vector<Eigen::Vector3d> nn;
+    int checked = 0, sparse = 0;
+    double reach_sum = 0.0;
+    for (int trial = 0; trial < 200; ++trial) {
+      const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+      float reach = -1.0f;
+      const int found = map.KNearest(q, 8, 0.8, &nn, &reach);
+      sparse += found < 8;
+      reach_sum += reach;
+      for (const auto& p : pts) {
+        const bool returned = std::any_of(
+            nn.begin(), nn.end(), [&](const Eigen::Vector3d& n) { return (n - p).norm() < 1e-6; });
+        if (returned) continue;
+        ASSERT_GE((p - q).norm(), reach - 1e-5) << "trial " << trial;
+        ++checked;
+      }
+      if (found > 0) EXPECT_GE(reach, (nn.back() - q).norm() - 1e-5);
+      if (found < 8) EXPECT_GT(reach, 0.8);  // nothing else within max_distance
+    }
+    EXPECT_GE(checked, 200 * (num_points - 8));  // every point not returned was checked
+    EXPECT_GT(reach_sum / 200, 0.2);
+    if (num_points == 300) EXPECT_GT(sparse, 150);  // the sparse case was exercised
+    if (num_points == 20000) EXPECT_LT(sparse, 20);
+  }
+}
+
 TEST(VoxelMapTest, SpacingAndCapLimitDensity) {
   VoxelMap map({1.0, 5, 0.2, 1e9});
   std::vector<Eigen::Vector3d> pts;
