@@ -53,10 +53,11 @@ void Validate(const AlignmentInput& in, const AlignmentOptions& o) {
   }
 }
 
-// The stacked, whitened linear system of step (b), unknowns [v_0 .. v_{N-1}, g, s] in c0
-// (3N + 4). Rows of pair (i, j = i + 1), docs "Linear alignment":
-//   s (p_j - p_i) - Dt v_i - 1/2 Dt^2 g = R_i Dp + (R_j - R_i) t_b_c
-//   v_j - v_i - Dt g                    = R_i Dv
+// The stacked, whitened linear system, unknowns [v_0 .. v_{N-1}, g, s, b_a] in c0 (3N + 7).
+// Rows of pair (i, j = i + 1), docs "Linear alignment", with the accelerometer bias to first
+// order, Dp(b_a) = Dp + dp_dba (b_a - b_lin):
+//   s (p_j - p_i) - Dt v_i - 1/2 Dt^2 g - R_i dp_dba b_a = R_i (Dp - dp_dba b_lin) + (R_j - R_i)
+//   t_b_c v_j - v_i - Dt g - R_i dv_dba b_a                    = R_i (Dv - dv_dba b_lin)
 struct LinearSystem {
   MatrixXd A;  // whitened
   VectorXd b;
@@ -65,26 +66,30 @@ struct LinearSystem {
 LinearSystem BuildSystem(const std::vector<Keyframe>& kf, const Vector3d& t_b_c,
                          const std::vector<ImuPreintegration>& pre, double visual_sigma) {
   const int n = static_cast<int>(kf.size());
+  const int cols = 3 * n + 7;
   LinearSystem sys;
-  sys.A = MatrixXd::Zero(6 * (n - 1), 3 * n + 4);
+  sys.A = MatrixXd::Zero(6 * (n - 1), cols);
   sys.b = VectorXd::Zero(6 * (n - 1));
-  const int g_col = 3 * n, s_col = 3 * n + 3;
+  const int g_col = 3 * n, s_col = 3 * n + 3, ba_col = 3 * n + 4;
   for (int i = 0; i + 1 < n; ++i) {
     const int j = i + 1;
     const ImuPreintegration& p = pre[i];
     const double dt = p.Dt();
     const Matrix3d& Ri = kf[i].R_c0_b;
+    const Vector3d& b_lin = p.BiasLinearisation().accel;
     Eigen::Matrix<double, 6, Eigen::Dynamic> rows =
-        Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, 3 * n + 4);
+        Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, cols);
     Eigen::Matrix<double, 6, 1> rhs;
     rows.block<3, 3>(0, 3 * i) = -dt * Matrix3d::Identity();
     rows.block<3, 3>(0, g_col) = -0.5 * dt * dt * Matrix3d::Identity();
     rows.block<3, 1>(0, s_col) = kf[j].p_bar - kf[i].p_bar;
-    rhs.head<3>() = Ri * p.DeltaP() + (kf[j].R_c0_b - Ri) * t_b_c;
+    rows.block<3, 3>(0, ba_col) = -Ri * p.d_p_d_ba();
+    rhs.head<3>() = Ri * (p.DeltaP() - p.d_p_d_ba() * b_lin) + (kf[j].R_c0_b - Ri) * t_b_c;
     rows.block<3, 3>(3, 3 * i) = -Matrix3d::Identity();
     rows.block<3, 3>(3, 3 * j) = Matrix3d::Identity();
     rows.block<3, 3>(3, g_col) = -dt * Matrix3d::Identity();
-    rhs.tail<3>() = Ri * p.DeltaV();
+    rows.block<3, 3>(3, ba_col) = -Ri * p.d_v_d_ba();
+    rhs.tail<3>() = Ri * (p.DeltaV() - p.d_v_d_ba() * b_lin);
     // Covariance of [p-row; v-row]: the preintegration's [dp, dv] blocks rotated into c0, and
     // the noise of the two visual positions.
     const Matrix9d C = p.Covariance();  // order [dtheta, dv, dp]
@@ -186,16 +191,18 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
 
   // (b) Velocities, gravity and scale.
   const LinearSystem sys = BuildSystem(kf, t_b_c, r.preintegrations, o.visual_position_sigma);
+  const int g_col = 3 * n, s_col = 3 * n + 3, ba_col = 3 * n + 4;
+  const Vector3d ba_prior = r.bias.accel;  // the accelerometer bias is held here in (b)
   r.rows = static_cast<int>(sys.A.rows());
-  r.unknowns = static_cast<int>(sys.A.cols());
+  r.unknowns = 3 * n + 4;
   VectorXd x;
   MatrixXd cov;
-  if (!SolveLeastSquares(sys.A, sys.b, &x, &cov)) {
+  if (!SolveLeastSquares(sys.A.leftCols(3 * n + 4), sys.b - sys.A.middleCols<3>(ba_col) * ba_prior,
+                         &x, &cov)) {
     r.status = AlignmentStatus::kNotExcited;
     r.message = "velocities, gravity and scale are not separable (constant-velocity motion?)";
     return r;
   }
-  const int g_col = 3 * n, s_col = 3 * n + 3;
   Vector3d g = x.segment<3>(g_col);
   r.scale = x(s_col);
   r.gravity_norm_unrefined = g.norm();
@@ -211,23 +218,39 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
     return r;
   }
 
-  // (c) Gravity on the sphere: g = g0 + B w with |g0| = |g|, B a tangent basis at g0.
-  MatrixXd A_c(sys.A.rows(), 3 * n + 3);
+  // (c) Gravity on the sphere, g = g0 + B w with |g0| = |g| and B a tangent basis at g0; the
+  // accelerometer bias with a prior N(ba_prior, sigma^2 I) (three extra rows), or held.
+  const bool with_ba = o.accel_bias_prior_sigma > 0;
+  const int cols = 3 * n + 3 + (with_ba ? 3 : 0);
+  const int rows = static_cast<int>(sys.A.rows()) + (with_ba ? 3 : 0);
+  MatrixXd A_c = MatrixXd::Zero(rows, cols);
+  VectorXd b_c = VectorXd::Zero(rows);
   for (int it = 0; it < o.gravity_iterations; ++it) {
     const Vector3d g0 = g.normalized() * o.gravity_magnitude;
     const Eigen::Matrix<double, 3, 2> B = TangentBasis(g.normalized());
-    A_c.leftCols(3 * n) = sys.A.leftCols(3 * n);
-    A_c.middleCols<2>(3 * n) = sys.A.middleCols<3>(g_col) * B;
-    A_c.col(3 * n + 2) = sys.A.col(s_col);
-    const VectorXd b_c = sys.b - sys.A.middleCols<3>(g_col) * g0;
+    const int m = static_cast<int>(sys.A.rows());
+    A_c.topLeftCorner(m, 3 * n) = sys.A.leftCols(3 * n);
+    A_c.block(0, 3 * n, m, 2) = sys.A.middleCols<3>(g_col) * B;
+    A_c.block(0, 3 * n + 2, m, 1) = sys.A.col(s_col);
+    b_c.head(m) = sys.b - sys.A.middleCols<3>(g_col) * g0;
+    if (with_ba) {
+      A_c.block(0, 3 * n + 3, m, 3) = sys.A.middleCols<3>(ba_col);
+      A_c.block<3, 3>(m, 3 * n + 3) = Matrix3d::Identity() / o.accel_bias_prior_sigma;
+      b_c.tail<3>() = ba_prior / o.accel_bias_prior_sigma;
+    } else {
+      b_c.head(m) -= sys.A.middleCols<3>(ba_col) * ba_prior;
+    }
     if (!SolveLeastSquares(A_c, b_c, &x, &cov)) {
       r.status = AlignmentStatus::kNotExcited;
       r.message = "velocities, gravity direction and scale are not separable";
       return r;
     }
     g = (g0 + B * x.segment<2>(3 * n)).normalized() * o.gravity_magnitude;
-    r.whitened_rms = std::sqrt((A_c * x - b_c).squaredNorm() / static_cast<double>(A_c.rows()));
+    r.whitened_rms = std::sqrt((A_c * x - b_c).squaredNorm() / static_cast<double>(rows));
   }
+  r.rows = rows;
+  r.unknowns = cols;
+  if (with_ba) r.bias.accel = x.segment<3>(3 * n + 3);
   r.scale = x(3 * n + 2);
   r.scale_sigma = std::sqrt(cov(3 * n + 2, 3 * n + 2));
   r.gravity_c0 = g;
@@ -243,6 +266,8 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
                        r.scale_sigma / r.scale, o.max_scale_relative_sigma);
     return r;
   }
+
+  for (ImuPreintegration& p : r.preintegrations) p.Repropagate(r.bias);
 
   // World frame: gravity along -z, the first body frame's yaw zero.
   const Vector3d up_b0 = -(kf[0].R_c0_b.transpose() * g);

@@ -5,13 +5,14 @@
 //       bias Jacobian, then every preintegration is integrated again at the new bias;
 //   (b) one weighted linear solve for the keyframe velocities, gravity in the first camera frame
 //       c0 and the metric scale of the visual translations;
-//   (c) gravity refined on the sphere of radius |g| (2-DoF tangent), with the velocities and the
-//       scale solved again; then a world frame w is chosen with gravity along -z and the yaw of
-//       the first body frame zero.
+//   (c) gravity refined on the sphere of radius |g| (2-DoF tangent), with the velocities, the
+//       scale and the accelerometer bias (with a prior) solved again; then a world frame w is
+//       chosen with gravity along -z and the yaw of the first body frame zero.
 // Failures are results with a reason, not exceptions: scale <= 0, |g| far from its value after
 // (b), or too little excitation (the scale's standard deviation from the IMU noise model is too
 // large a fraction of the scale, or the system is rank-deficient, as for constant-velocity
-// motion). The accelerometer bias is held at the preintegrations' linearisation value.
+// motion). The accelerometer bias is estimated in step (c) with a prior (it is weakly observable
+// over a few seconds: it trades against the gravity direction unless the body rotates).
 //
 // No I/O, no printing, no timing.
 #pragma once
@@ -33,8 +34,11 @@ struct AlignmentOptions {
   // Noise of the visual keyframe positions at metric scale, added to the position rows of the
   // weights (m). The IMU part comes from each preintegration's covariance.
   double visual_position_sigma = 0.005;
-  int gyro_bias_iterations = 2;  // step (a) re-linearised this often
-  int gravity_iterations = 4;    // step (c)
+  // Prior standard deviation of the accelerometer bias around the preintegrations' linearisation
+  // value, estimated in step (c) to first order (dp_dba, dv_dba); 0 holds it at that value.
+  double accel_bias_prior_sigma = 0.2;  // m/s^2
+  int gyro_bias_iterations = 2;         // step (a) re-linearised this often
+  int gravity_iterations = 4;           // step (c)
   int min_keyframes = 4;
 };
 
@@ -65,11 +69,11 @@ struct AlignmentResult {
   double gravity_norm_unrefined = 0.0;  // |g_c0| after step (b)
   Eigen::Vector3d gravity_c0 = Eigen::Vector3d::Zero();  // refined, |g| = gravity_magnitude
   Eigen::Matrix3d R_w_c0 = Eigen::Matrix3d::Identity();  // gravity along -z in w
-  ImuBias bias;                                          // estimated gyro, accel as given
+  ImuBias bias;                                          // estimated
   std::vector<Eigen::Vector3d> velocities_w;             // of the body at each keyframe
   std::vector<SE3d> T_w_bk;                              // metric body poses in w
-  std::vector<ImuPreintegration> preintegrations;        // integrated at `bias`
-  // Root mean square of the whitened residuals of the final linear system.
+  std::vector<ImuPreintegration> preintegrations;        // integrated again at `bias`
+  // Root mean square of the whitened residuals of the final linear system, its size.
   double whitened_rms = 0.0;
   int rows = 0, unknowns = 0;
 };
