@@ -13,8 +13,8 @@
 //   up direction u_b = a_bar / |a_bar|               (R_w_b with zero yaw: gravity.h)
 //   accel bias   b_a = (|a_bar| - |g|) u_b          (the component along gravity only)
 // With |g| known, one still attitude observes 1 of the 3 accelerometer bias components: a bias
-// b_h orthogonal to gravity is indistinguishable from a tilt of |b_h| / |g| rad (0.074 m/s^2, the
-// EuRoC V1_01 ground truth's horizontal bias, tilts by 0.43 deg). The horizontal part is taken as
+// b_h orthogonal to gravity is indistinguishable from a tilt of |b_h| / |g| rad (0.073 m/s^2, the
+// EuRoC V1_01 ground truth's horizontal bias, tilts by 0.42 deg). The horizontal part is taken as
 // the caller's prior (zero by default) with the standard deviation accel_bias_prior_sigma per
 // axis, which enters the covariances of the up direction and of the bias.
 //

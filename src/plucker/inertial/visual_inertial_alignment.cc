@@ -32,11 +32,10 @@ std::vector<Keyframe> Keyframes(const AlignmentInput& in) {
 }
 
 void Validate(const AlignmentInput& in, const AlignmentOptions& o) {
-  if (in.preintegrations.size() + 1 != in.T_c0_ck.size()) {
+  if (in.T_c0_ck.empty() || in.preintegrations.size() + 1 != in.T_c0_ck.size()) {
     throw std::invalid_argument("AlignVisualInertial: " + std::to_string(in.T_c0_ck.size()) +
-                                " keyframe poses need " + std::to_string(in.T_c0_ck.size() - 1) +
-                                " preintegrations, got " +
-                                std::to_string(in.preintegrations.size()));
+                                " keyframe poses and " + std::to_string(in.preintegrations.size()) +
+                                " preintegrations (one fewer than the poses is needed)");
   }
   for (const SE3d& T : in.T_c0_ck) {
     if (!T.translation().allFinite() || !T.rotation().coeffs().allFinite()) {

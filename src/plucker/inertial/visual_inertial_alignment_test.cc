@@ -262,6 +262,16 @@ TEST(VisualInertialAlignment, BadInput) {
   AlignmentInput nan = s.input;
   nan.T_c0_ck[2] = SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(std::nan(""), 0, 0));
   EXPECT_THROW(AlignVisualInertial(nan), std::invalid_argument);
+  try {
+    AlignVisualInertial(AlignmentInput{});
+    ADD_FAILURE() << "no exception for an empty input";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("0 keyframe poses and 0 preintegrations"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(EstimateGyroBias(mismatch.T_c0_ck, mismatch.T_b_c, mismatch.preintegrations),
+               std::invalid_argument);
 }
 
 TEST(InitializationChoice, StaticFirstThenDynamicOnceExcited) {
