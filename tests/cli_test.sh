@@ -94,10 +94,21 @@ awk 'BEGIN { for (k = 0; k <= 40; ++k) printf "%.0f,0,0,0,1,0,0,0,0,0,0,0,0,0,0,
   > "$E/state_groundtruth_estimate0/data.csv"
 expect eval-imu 0 "1.00 +21 " -- "$PLUCKER" eval imu --euroc "$T/euroc"
 expect eval-imu-json 0 '"windows"' -- "$PLUCKER" eval imu --euroc "$T/euroc" --json --windows 0.5
+# Initialisation on the same log (2 s at rest, level): static succeeds, dynamic windows are not
+# excited.
+expect eval-init 0 "static initialisation: success" -- "$PLUCKER" eval init --euroc "$T/euroc"
+expect eval-init-dynamic 0 "too little excitation" -- "$PLUCKER" eval init --euroc "$T/euroc"
+expect eval-init-json 0 '"gravity_direction_error_deg": 0' -- \
+  "$PLUCKER" eval init --euroc "$T/euroc" --json
+expect eval-init-bad-bias nonzero "accel-bias" -- \
+  "$PLUCKER" eval init --euroc "$T/euroc" --accel-bias 1,2
 sed -i '3s/,9.81$/,x/' "$E/imu0/data.csv"
 expect eval-imu-bad-number nonzero "imu0/data.csv:3: bad number" -- \
   "$PLUCKER" eval imu --euroc "$T/euroc"
 expect eval-imu-not-euroc nonzero "not a EuRoC folder" -- "$PLUCKER" eval imu --euroc "$T/nothing"
+expect eval-init-bad-number nonzero "imu0/data.csv:3: bad number" -- \
+  "$PLUCKER" eval init --euroc "$T/euroc"
+expect eval-init-not-euroc nonzero "not a EuRoC folder" -- "$PLUCKER" eval init --euroc "$T/nothing"
 
 # Camera simulation and the demo (camera part only, small).
 expect sim-camera 0 "" -- "$PLUCKER" sim camera --out "$T/cam" --scene room --frames 10

@@ -468,6 +468,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
 
   AddEvalImu(eval_cmd, exit_code);
+  AddEvalInit(eval_cmd, exit_code);
   RegisterEvalLines(*eval_cmd, exit_code);
 }
 

@@ -15,6 +15,7 @@ void RegisterSim(CLI::App& app, int* exit_code);             // cmd_sim.cc
 void RegisterLidar(CLI::App& app, int* exit_code);           // cmd_lidar.cc
 void RegisterEval(CLI::App& app, int* exit_code);            // cmd_eval.cc
 void AddEvalImu(CLI::App* eval_cmd, int* exit_code);         // cmd_eval_imu.cc, `eval imu`
+void AddEvalInit(CLI::App* eval_cmd, int* exit_code);        // cmd_eval_init.cc, `eval init`
 void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
 void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
 void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc

@@ -1,0 +1,93 @@
+// Dynamic initialisation: up-to-scale camera poses of the first keyframes (visual SfM) aligned
+// with the IMU preintegrated between them, in the manner of VINS-Mono (Qin et al., TRO 2018)
+// (docs/math/vi-initialisation.md, "Dynamic initialisation"). Steps:
+//   (a) gyro bias: linear least squares on the rotation differences with the preintegration's
+//       bias Jacobian, then every preintegration is integrated again at the new bias;
+//   (b) one weighted linear solve for the keyframe velocities, gravity in the first camera frame
+//       c0 and the metric scale of the visual translations;
+//   (c) gravity refined on the sphere of radius |g| (2-DoF tangent), with the velocities, the
+//       scale and the accelerometer bias (with a prior) solved again; then a world frame w is
+//       chosen with gravity along -z and the yaw of the first body frame zero.
+// Failures are results with a reason, not exceptions: scale <= 0, |g| far from its value after
+// (b), or too little excitation (the scale's standard deviation from the IMU noise model is too
+// large a fraction of the scale, or the system is rank-deficient, as for constant-velocity
+// motion). The accelerometer bias is estimated in step (c) with a prior (it is weakly observable
+// over a few seconds: it trades against the gravity direction unless the body rotates).
+//
+// No I/O, no printing, no timing.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "plucker/factors/imu_preintegration.h"
+#include "plucker/geometry/se3.h"
+
+namespace plucker {
+namespace inertial {
+
+struct AlignmentOptions {
+  double gravity_magnitude = 9.81;        // m/s^2
+  double max_gravity_deviation = 1.0;     // m/s^2, | |g_c0| - |g| | allowed after step (b)
+  double max_scale_relative_sigma = 0.1;  // sigma(s) / s allowed after step (c)
+  // Noise of the visual keyframe positions at metric scale, added to the position rows of the
+  // weights (m). The IMU part comes from each preintegration's covariance.
+  double visual_position_sigma = 0.005;
+  // Prior standard deviation of the accelerometer bias around the preintegrations' linearisation
+  // value, estimated in step (c) to first order (dp_dba, dv_dba); 0 holds it at that value.
+  double accel_bias_prior_sigma = 0.2;  // m/s^2
+  int gyro_bias_iterations = 2;         // step (a) re-linearised this often
+  int gravity_iterations = 4;           // step (c)
+  int min_keyframes = 4;
+};
+
+struct AlignmentInput {
+  std::vector<SE3d> T_c0_ck;  // camera poses of keyframes 0..N-1, translations up to scale
+  SE3d T_b_c;                 // camera in the body (IMU) frame, metric
+  // preintegrations[k] integrates the IMU from keyframe k to k + 1 (N - 1 of them), at any
+  // linearisation bias (usually zero); copies are integrated again at the estimated gyro bias.
+  std::vector<ImuPreintegration> preintegrations;
+};
+
+enum class AlignmentStatus {
+  kSuccess,
+  kTooFewKeyframes,
+  kNotExcited,  // rank-deficient or too uncertain scale
+  kNonPositiveScale,
+  kGravityMagnitude,  // |g| far from gravity_magnitude after step (b)
+};
+const char* ToString(AlignmentStatus status);
+
+struct AlignmentResult {
+  AlignmentStatus status = AlignmentStatus::kTooFewKeyframes;
+  std::string message;
+  bool success() const { return status == AlignmentStatus::kSuccess; }
+
+  double scale = 0.0;                   // metric = scale * visual translation
+  double scale_sigma = 0.0;             // standard deviation from the IMU noise model (step (c))
+  double gravity_norm_unrefined = 0.0;  // |g_c0| after step (b)
+  Eigen::Vector3d gravity_c0 = Eigen::Vector3d::Zero();  // refined, |g| = gravity_magnitude
+  Eigen::Matrix3d R_w_c0 = Eigen::Matrix3d::Identity();  // gravity along -z in w
+  ImuBias bias;                                          // estimated
+  std::vector<Eigen::Vector3d> velocities_w;             // of the body at each keyframe
+  std::vector<SE3d> T_w_bk;                              // metric body poses in w
+  std::vector<ImuPreintegration> preintegrations;        // integrated again at `bias`
+  // Root mean square of the whitened residuals of the final linear system, its size.
+  double whitened_rms = 0.0;
+  int rows = 0, unknowns = 0;
+};
+
+// Throws std::invalid_argument when the input sizes do not match (N poses, N - 1
+// preintegrations) or a value is not finite.
+AlignmentResult AlignVisualInertial(const AlignmentInput& input,
+                                    const AlignmentOptions& options = {});
+
+// The gyro bias of step (a) alone: minimises sum_k |Log(DR_k(b)^T R_bk_bk+1)|^2 with
+// DR_k(b) ~ DR_k Exp(dR_dbg (b - b_lin)), R_bk_bk+1 from the camera poses and R_b_c.
+// Returns the bias (the linearisation bias of preintegrations[0] plus the correction).
+Eigen::Vector3d EstimateGyroBias(const std::vector<SE3d>& T_c0_ck, const SE3d& T_b_c,
+                                 const std::vector<ImuPreintegration>& preintegrations);
+
+}  // namespace inertial
+}  // namespace plucker
