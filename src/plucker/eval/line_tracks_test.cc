@@ -21,8 +21,8 @@ PinholeIntrinsics K() {
 // A car-like sequence: cameras 1 m apart along z, looking along z, with a small sideways drift.
 std::vector<SE3d> Poses(int n, double drift = 0.1) {
   std::vector<SE3d> poses;
-  for (int i = 0; i < n; ++i) poses.emplace_back(Eigen::Quaterniond::Identity(),
-                                                 Eigen::Vector3d(drift * i, 0, 1.0 * i));
+  for (int i = 0; i < n; ++i)
+    poses.emplace_back(Eigen::Quaterniond::Identity(), Eigen::Vector3d(drift * i, 0, 1.0 * i));
   return poses;
 }
 
@@ -42,7 +42,8 @@ TEST(LineTracks, CorrectWrongUnconstrainedAndShort) {
   std::vector<sensor::SegmentObservation> obs;
   // 0: a vertical pole edge, seen 5 times with 0.5 px noise-like offsets: correct.
   const Eigen::Vector3d P0(6, -2, 12), Q0(6, 1, 12);
-  for (int f = 0; f < 5; ++f) obs.push_back(See(poses, f, 0, P0, Q0, Eigen::Vector2d(0.3 * (f % 2), 0)));
+  for (int f = 0; f < 5; ++f)
+    obs.push_back(See(poses, f, 0, P0, Q0, Eigen::Vector2d(0.3 * (f % 2), 0)));
   // 1: the first 3 views of one edge, then 2 of another 1 m away: wrong.
   const Eigen::Vector3d P1(-6, -2, 14), Q1(-6, 1, 14);
   for (int f = 0; f < 5; ++f) {

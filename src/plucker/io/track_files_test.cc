@@ -11,7 +11,8 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(TrackFiles, RoundTrip) {
-  const fs::path dir = fs::temp_directory_path() / ("plucker_track_files_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("plucker_track_files_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::vector<sensor::SegmentObservation> segs(2);
   segs[0] = {0, 4, Eigen::Vector2d(1.25, 2.5), Eigen::Vector2d(30.125, 40)};
