@@ -6,6 +6,9 @@
 #include <limits>
 #include <sstream>
 
+#include "plucker/geometry/line_projection.h"
+#include "plucker/geometry/orthonormal_line.h"
+
 namespace plucker {
 
 namespace {
@@ -110,6 +113,12 @@ LineTriangulationResult Finish(const PinholeIntrinsics& K, const std::vector<Lin
     mu_min = std::min({mu_min, mu_s, mu_e});
     mu_max = std::max({mu_max, mu_s, mu_e});
   }
+  const auto errors = LineReprojectionErrors(K, obs, L);
+  if (!errors) {
+    return Fail(result, Status::kDegenerateEndpoint, "the line projects to a point in a view");
+  }
+  result.rms_error_px = std::sqrt(errors->squaredNorm() / static_cast<double>(errors->size()));
+  result.max_error_px = errors->cwiseAbs().maxCoeff();
   result.L_w = L;
   result.start_w = p0 + mu_min * L.tail<3>();
   result.end_w = p0 + mu_max * L.tail<3>();
@@ -248,6 +257,123 @@ LineTriangulationResult TriangulateLine(const PinholeIntrinsics& K,
   L.head<3>() = s * X1.head<3>().cross(X2.head<3>()) + c.cross(d);
   L.tail<3>() = d;
   return Finish(K, obs, L, options, result);
+}
+
+std::optional<Eigen::VectorXd> LineReprojectionErrors(const PinholeIntrinsics& K,
+                                                      const std::vector<LineObservation>& obs,
+                                                      const Line6d& L_w) {
+  if (!K.IsValid() || !L_w.allFinite()) return std::nullopt;
+  Eigen::VectorXd errors(2 * obs.size());
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (!IsFinite(obs[i])) return std::nullopt;
+    const Line6d L_c = TransformLine(obs[i].T_w_c.Inverse(), L_w);
+    if (LineThroughCameraCentre(L_c)) return std::nullopt;
+    const auto r = EndpointLineResidual(ProjectLinePixels(K, L_c), obs[i].start, obs[i].end);
+    if (!r) return std::nullopt;
+    errors.segment<2>(2 * i) = *r;
+  }
+  return errors;
+}
+
+namespace {
+
+// Residuals (2 per view, pixels) and, when J is non-null, their Jacobian w.r.t. the tangent of
+// the orthonormal line. False when a view's image line is undefined.
+bool Linearize(const PinholeIntrinsics& K, const std::vector<LineObservation>& obs,
+               const std::vector<SE3d>& T_c_w, const OrthonormalLine& line, Eigen::VectorXd* r,
+               Eigen::MatrixXd* J) {
+  Eigen::Matrix<double, 6, 4> d_Lw_d_delta;
+  const Line6d L_w = PluckerFromOrthonormal(line, J ? &d_Lw_d_delta : nullptr);
+  r->resize(2 * obs.size());
+  if (J) J->resize(2 * obs.size(), 4);
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    Matrix6d d_Lc_d_Lw;
+    const Line6d L_c = TransformLine(T_c_w[i], L_w, nullptr, J ? &d_Lc_d_Lw : nullptr);
+    if (LineThroughCameraCentre(L_c)) return false;
+    Eigen::Matrix<double, 3, 6> d_l_d_Lc;
+    const Eigen::Vector3d l = ProjectLinePixels(K, L_c, J ? &d_l_d_Lc : nullptr);
+    Eigen::Matrix<double, 2, 3> d_r_d_l;
+    const auto ri = EndpointLineResidual(l, obs[i].start, obs[i].end, J ? &d_r_d_l : nullptr);
+    if (!ri) return false;
+    r->segment<2>(2 * i) = *ri;
+    if (J) J->block<2, 4>(2 * i, 0) = d_r_d_l * d_l_d_Lc * d_Lc_d_Lw * d_Lw_d_delta;
+  }
+  return r->allFinite() && (!J || J->allFinite());
+}
+
+}  // namespace
+
+std::optional<LineRefinement> RefineLine(const PinholeIntrinsics& K,
+                                         const std::vector<LineObservation>& obs,
+                                         const Line6d& L_w_init,
+                                         const LineRefinementOptions& options) {
+  if (!K.IsValid() || obs.empty()) return std::nullopt;
+  for (const LineObservation& o : obs) {
+    if (!IsFinite(o)) return std::nullopt;
+  }
+  const auto start = OrthonormalFromPlucker(L_w_init);
+  if (!start) return std::nullopt;
+  std::vector<SE3d> T_c_w;
+  for (const LineObservation& o : obs) T_c_w.push_back(o.T_w_c.Inverse());
+  OrthonormalLine line = *start;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  if (!Linearize(K, obs, T_c_w, line, &r, &J)) return std::nullopt;
+  LineRefinement out;
+  out.initial_cost = 0.5 * r.squaredNorm();
+  double cost = out.initial_cost;
+  double lambda = options.initial_lambda;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    const Eigen::Matrix4d H = J.transpose() * J;
+    const Eigen::Vector4d g = J.transpose() * r;
+    Eigen::Matrix4d A = H;
+    A.diagonal() += lambda * H.diagonal().cwiseMax(1e-12);
+    const Eigen::Vector4d delta = A.ldlt().solve(-g);
+    if (!delta.allFinite()) break;
+    const OrthonormalLine candidate = line.Plus(delta);
+    Eigen::VectorXd r_new;
+    Eigen::MatrixXd J_new;
+    const bool ok = Linearize(K, obs, T_c_w, candidate, &r_new, &J_new);
+    const double cost_new = ok ? 0.5 * r_new.squaredNorm() : std::numeric_limits<double>::max();
+    if (ok && cost_new <= cost) {
+      const double decrease = cost - cost_new;
+      line = candidate;
+      r = r_new;
+      J = J_new;
+      cost = cost_new;
+      ++out.iterations;
+      lambda = std::max(lambda / 10.0, 1e-12);
+      if (delta.norm() < options.parameter_tolerance ||
+          decrease <= options.cost_tolerance * (cost + 1e-300)) {
+        out.converged = true;
+        break;
+      }
+    } else {
+      lambda *= 10.0;
+      if (lambda > 1e8) {
+        out.converged = true;  // no descent direction left: at a minimum up to rounding
+        break;
+      }
+    }
+  }
+  out.final_cost = cost;
+  out.L_w = PluckerFromOrthonormal(line);
+  return out;
+}
+
+LineTriangulationResult TriangulateLineRefined(const PinholeIntrinsics& K,
+                                               const std::vector<LineObservation>& obs,
+                                               const LineTriangulationOptions& options,
+                                               const LineRefinementOptions& refinement) {
+  const LineTriangulationResult linear = TriangulateLine(K, obs, options);
+  if (!linear.ok()) return linear;
+  const auto refined = RefineLine(K, obs, linear.L_w, refinement);
+  if (!refined || !(refined->final_cost <= refined->initial_cost)) return linear;
+  LineTriangulationResult result = linear;
+  result = Finish(K, obs, refined->L_w, options, result);
+  if (!result.ok()) return linear;  // the refined line fails cheirality: keep the linear one
+  result.refine_iterations = refined->iterations;
+  return result;
 }
 
 LineTriangulationResult TriangulateLineBestPair(const PinholeIntrinsics& K,

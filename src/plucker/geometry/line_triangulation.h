@@ -10,6 +10,23 @@
 //    right singular vectors of the two smallest singular values are two homogeneous points of it.
 // The angle between two planes is measured with |cos| (acos(|m_i . m_j|) in [0, pi/2]) so that the
 // endpoint order of a segment (which flips the sign of its normal) never matters.
+//  - Refinement (RefineLine, TriangulateLineRefined): Levenberg-Marquardt on the line manifold
+//    (orthonormal representation, 4 parameters, geometry/orthonormal_line.h) of the endpoint-to-
+//    line distances in pixels, the residual of the analytic line factor; its Jacobian is the chain
+//    of the tested links (orthonormal -> Plücker, world -> camera, projection, endpoint distance).
+//    It lives here (Eigen only) rather than in ba (Ceres): with the cameras fixed the problem is
+//    one 4x4 normal equation per line, which the front end and the evaluation call thousands of
+//    times without a solver; ba's LineManifold keeps the joint adjustment.
+//
+// Conditioning (forward motion along a line): when every camera centre lies (nearly) in one
+// plane with the line, all back-projected planes coincide and the line is undefined inside it.
+// The test is the largest angle between two back-projected planes (the best-conditioned pair;
+// the smallest angle is always small between neighbouring frames and says nothing). A plane's
+// normal is uncertain by about sigma / f rad (sigma px of endpoint noise, focal f px: 1/707 rad =
+// 0.08 deg on KITTI), and the depth of the intersection by about (sigma / f) / angle relative: at
+// the default 2 deg that is 4 % on KITTI at 1 px, 1 % on Strecha (f = 2760). Below 2 deg the
+// triangulated lines are dominated by noise (line_triangulation_test.cc measures it), and the
+// N-view sigma3 / sigma2 test catches views that disagree.
 #pragma once
 
 #include <Eigen/Core>
@@ -40,6 +57,13 @@ struct LineTriangulationOptions {
   double min_depth = 1e-3;  // the 3D endpoints must be this far in front of each camera (m)
 };
 
+struct LineRefinementOptions {
+  int max_iterations = 30;
+  double initial_lambda = 1e-4;        // Levenberg-Marquardt damping, relative to the diagonal
+  double parameter_tolerance = 1e-10;  // stop when |delta| (rad) falls below this
+  double cost_tolerance = 1e-12;       // or when the cost decreases by less than this, relatively
+};
+
 enum class LineTriangulationStatus {
   kOk,
   kInvalidInput,        // non-finite input, invalid intrinsics, too-short segment
@@ -66,6 +90,11 @@ struct LineTriangulationResult {
   double sigma_ratio = 0.0;
   double min_parallax_rad = 0.0;  // smallest / largest pairwise plane angle, in [0, pi/2]
   double max_parallax_rad = 0.0;
+  // Endpoint-to-line distances of every observation to the returned line [px] (RMS over the 2N
+  // endpoint distances and the largest one). Valid when ok().
+  double rms_error_px = 0.0;
+  double max_error_px = 0.0;
+  int refine_iterations = 0;  // TriangulateLineRefined: accepted Levenberg-Marquardt steps
   bool ok() const { return status == LineTriangulationStatus::kOk; }
 };
 
@@ -88,6 +117,35 @@ LineTriangulationResult TriangulateLineTwoView(const PinholeIntrinsics& K, const
 LineTriangulationResult TriangulateLine(const PinholeIntrinsics& K,
                                         const std::vector<LineObservation>& observations,
                                         const LineTriangulationOptions& options = {});
+
+// Endpoint-to-line distances [px] of every observation (start, end per view) to L_w, in the
+// order of the observations; nullopt when the line projects to a point in some view or the input
+// is non-finite.
+std::optional<Eigen::VectorXd> LineReprojectionErrors(const PinholeIntrinsics& K,
+                                                      const std::vector<LineObservation>& obs,
+                                                      const Line6d& L_w);
+
+struct LineRefinement {
+  Line6d L_w = Line6d::Zero();  // |L| = 1 (orthonormal scale); normalise the direction as needed
+  double initial_cost = 0.0;    // 0.5 * sum of squared endpoint distances [px^2]
+  double final_cost = 0.0;
+  int iterations = 0;  // accepted steps
+  bool converged = false;
+};
+
+// Levenberg-Marquardt on the line manifold from L_w_init, cameras fixed. nullopt for invalid
+// input (invalid K, a non-finite value, a line through a camera centre or |d| = 0).
+std::optional<LineRefinement> RefineLine(const PinholeIntrinsics& K,
+                                         const std::vector<LineObservation>& observations,
+                                         const Line6d& L_w_init,
+                                         const LineRefinementOptions& options = {});
+
+// Linear N-view triangulation (with its parallax and conditioning tests), then RefineLine, then
+// the 3D segment from the observed endpoints; rms/max_error_px of the refined line.
+LineTriangulationResult TriangulateLineRefined(const PinholeIntrinsics& K,
+                                               const std::vector<LineObservation>& observations,
+                                               const LineTriangulationOptions& options = {},
+                                               const LineRefinementOptions& refinement = {});
 
 // Two-view triangulation from the pair of observations with the largest plane angle (|cos|).
 // Returns the indices used in *pair when non-null.
