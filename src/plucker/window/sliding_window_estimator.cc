@@ -28,7 +28,14 @@ struct PosePriorResidual {
   Eigen::Matrix<double, 6, 6> S;
   template <typename T>
   bool operator()(const T* x, T* residual) const {
-    const Eigen::Matrix<T, 6, 1> d = SE3<T>::FromParameters(x).Minus(prior.cast<T>());
+    // The rotation difference in the hemisphere of the prior's quaternion (q and -q are one
+    // rotation; the prior may come with either sign).
+    const SE3<T> X = SE3<T>::FromParameters(x);
+    Eigen::Quaternion<T> dq = prior.rotation().cast<T>().conjugate() * X.rotation();
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    Eigen::Matrix<T, 6, 1> d;
+    d.template head<3>() = LogUnitQuaternion<T>(dq);
+    d.template tail<3>() = X.translation() - prior.translation().cast<T>();
     Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
     r = S.cast<T>() * d;
     return true;
@@ -716,9 +723,7 @@ std::optional<Eigen::Matrix<double, 6, 6>> SlidingWindowEstimator::NewestPoseCov
   double* pose = m.keyframes.back()->pose;
   if (!problem.HasParameterBlock(pose)) return std::nullopt;
   ceres::Covariance::Options co;
-  co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = 0;
-  co.min_reciprocal_condition_number = 1e-14;
+  co.algorithm_type = ceres::SPARSE_QR;  // fails (nullopt) when the information is rank-deficient
   co.apply_loss_function = true;
   ceres::Covariance covariance(co);
   const std::vector<std::pair<const double*, const double*>> blocks = {{pose, pose}};
