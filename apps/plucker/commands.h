@@ -19,6 +19,7 @@ void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
 void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
 void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc
 void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.cc (eval lines)
+void RegisterVo(CLI::App& app, int* exit_code);              // cmd_vo.cc
 
 }  // namespace app
 }  // namespace plucker

@@ -668,8 +668,12 @@ InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, con
   return result;
 }
 
-FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input) {
+FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
+                                             const StageObserver& observer) {
   Impl& m = *impl_;
+  auto stage = [&observer](WindowStage s) {
+    if (observer) observer(s);
+  };
   FrameResult result;
   if (m.keyframes.empty())
     throw std::logic_error("SlidingWindowEstimator::AddFrame before Initialize");
@@ -677,7 +681,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input) {
   const SE3d predicted = input.T_w_c_guess ? *input.T_w_c_guess
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
-  // Track.
+  stage(WindowStage::kTracking);
   const Impl::TrackResult track = m.Track(frame.get(), predicted);
   result.tracking_iterations = track.iterations;
   result.tracked_points = track.points;
@@ -691,14 +695,20 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input) {
                                  track.points + track.lines < m.opt.min_tracked);
   if (result.keyframe) {
     m.keyframes.push_back(std::move(frame));
+    stage(WindowStage::kTriangulation);
     m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines);
+    stage(WindowStage::kSolve);
     m.SolveWindow(&result);
     result.T_w_c = m.keyframes.back()->T_w_c();
-    if (static_cast<int>(m.keyframes.size()) > m.opt.window_size) m.MarginalizeOldest(&result);
+    if (static_cast<int>(m.keyframes.size()) > m.opt.window_size) {
+      stage(WindowStage::kMarginalization);
+      m.MarginalizeOldest(&result);
+    }
   }
   m.prev_T_w_c = m.last_T_w_c;
   m.last_T_w_c = result.T_w_c;
   m.FillCounts(&result);
+  stage(WindowStage::kDone);
   return result;
 }
 

@@ -41,6 +41,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -123,6 +124,12 @@ struct FrameResult {
   double parallax_px = 0.0;
 };
 
+// The stages of AddFrame, announced as they start (kDone at the end) so that the caller can time
+// them; the library reads no clock.
+enum class WindowStage { kTracking, kTriangulation, kSolve, kMarginalization, kDone };
+constexpr int kNumWindowStages = 4;
+using StageObserver = std::function<void(WindowStage)>;
+
 // The result of Initialize.
 struct InitializationResult {
   bool ok = false;
@@ -147,7 +154,7 @@ class SlidingWindowEstimator {
   bool initialized() const;
 
   // Processes the next frame (after Initialize). See the file comment.
-  FrameResult AddFrame(const FrameInput& frame);
+  FrameResult AddFrame(const FrameInput& frame, const StageObserver& observer = {});
 
   // Motion-only pose of a frame against the current landmarks, from the guess; the state is not
   // changed (frames between the two initialisation views). nullopt if too little is tracked.
