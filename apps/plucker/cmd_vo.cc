@@ -41,6 +41,8 @@ struct VoArgs {
   int window = 10;
   int iterations = 10;
   int max_init_gap = 30;
+  double line_min_angle_deg = 5.0;
+  double loss_scale = 1.5;
   bool quiet = false;
 };
 
@@ -77,6 +79,8 @@ int Run(const VoArgs& a) {
   options.keep_marginalized_lines = !a.drop_marginalized_lines;
   options.first_estimate_jacobians = !a.no_fej;
   options.condition_far_lines = !a.no_line_conditioning;
+  options.line_triangulation.min_plane_angle_deg = a.line_min_angle_deg;
+  options.loss_scale = a.loss_scale;
   options.point_sigma_px = options.line_sigma_px = std::max(seq.observation_model.pixel_sigma, 0.5);
   window::SlidingWindowEstimator estimator(seq.rig.K, options);
 
@@ -265,6 +269,13 @@ void RegisterVo(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--iterations", args->iterations, "Solver iterations per window solve")
       ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--line-min-angle", args->line_min_angle_deg,
+                  "Smallest angle between the back-projected planes of a new line (deg)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--loss-scale", args->loss_scale, "Huber loss scale (in pixel sigmas)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code]() {

@@ -316,7 +316,31 @@ struct SlidingWindowEstimator::Impl {
       const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
       d.push_back((uv - p.uv).norm());
     }
-    return Median(d);
+    if (d.size() >= 8) return Median(d);
+    // Too few common points (scarce points, many lines): the parallax the baseline to the newest
+    // keyframe induces at the median depth of the tracked landmarks, f * baseline / depth.
+    const SE3d T_c_w = f.T_w_c().Inverse();
+    const Eigen::Vector3d centre = f.T_w_c().translation();
+    std::vector<double> depth;
+    for (std::size_t i = 0; i < f.input.points.size(); ++i) {
+      const auto it = points.find(f.input.points[i].point_id);
+      if (it == points.end() || f.point_outlier[i]) continue;
+      const double z =
+          (T_c_w * Eigen::Vector3d(it->second->p[0], it->second->p[1], it->second->p[2])).z();
+      if (z > 0.0) depth.push_back(z);
+    }
+    for (std::size_t i = 0; i < f.input.segments.size(); ++i) {
+      const auto it = lines.find(f.input.segments[i].line_id);
+      if (it == lines.end() || f.segment_outlier[i]) continue;
+      const Line6d L_w = WorldFromAnchored(
+          PluckerFromOrthonormal(OrthonormalLine::FromParameters(it->second->block)),
+          it->second->anchor);
+      const std::optional<double> dist = PointLineDistance(L_w, centre);
+      if (dist && *dist > 0.0) depth.push_back(*dist);
+    }
+    if (depth.empty()) return 0.0;
+    const double baseline = (centre - kf.T_w_c().translation()).norm();
+    return 0.5 * (K.fx + K.fy) * baseline / Median(depth);
   }
 
   // --- triangulation ---------------------------------------------------------------------------
@@ -585,8 +609,10 @@ struct SlidingWindowEstimator::Impl {
     prior_blocks = next_blocks;
     if (prior) {
       result->prior_rank = prior->Statistics().prior_rank;
-      for (std::size_t i = 0; i < prior_blocks.size(); ++i)
-        fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
+      for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
+        if (opt.first_estimate_landmarks || KindOf(prior_blocks[i]) == BlockKind::kPose)
+          fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
+      }
       if (prior->Statistics().prior_rank == 0) {
         prior.reset();
         prior_blocks.clear();
@@ -691,8 +717,10 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   result.T_w_c.ToParameters(frame->pose);
   // Decide.
   result.parallax_px = m.Parallax(*frame);
+  const int observed = static_cast<int>(frame->input.points.size() + frame->input.segments.size());
   result.keyframe = track.ok && (result.parallax_px >= m.opt.keyframe_parallax_px ||
-                                 track.points + track.lines < m.opt.min_tracked);
+                                 track.points + track.lines < m.opt.min_tracked ||
+                                 track.points + track.lines < m.opt.min_tracked_ratio * observed);
   if (result.keyframe) {
     m.keyframes.push_back(std::move(frame));
     stage(WindowStage::kTriangulation);
