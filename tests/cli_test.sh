@@ -103,7 +103,7 @@ expect eval-imu-not-euroc nonzero "not a EuRoC folder" -- "$PLUCKER" eval imu --
 expect sim-camera 0 "" -- "$PLUCKER" sim camera --out "$T/cam" --scene room --frames 10
 # Monocular point + line odometry on the camera simulation, and its bad-input paths.
 expect vo 0 "10 frames \(initialised on frames" -- \
-  "$PLUCKER" vo --features "$T/cam" --out "$T/vo.txt" --json "$T/vo.json" --quiet
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo.txt" --json "$T/vo.json"
 expect vo-rows 0 "^10$" -- bash -c "wc -l < '$T/vo.txt'"
 expect vo-json 0 '"keep_marginalized_lines": true' -- cat "$T/vo.json"
 expect vo-eval 0 "ATE translation" -- \
