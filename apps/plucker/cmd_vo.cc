@@ -147,10 +147,12 @@ int Run(const VoArgs& a) {
     const double frame_ms = ThreadCpuMs() - t0;
     frame_total += frame_ms;
     for (int s = 0; s < window::kNumWindowStages; ++s) stage_total[s] += ms[s];
-    poses[i] = r.T_w_c;
-    status[i] = r.ok ? "tracked" : "lost";
+    const bool finite =
+        r.T_w_c.translation().allFinite() && r.T_w_c.rotation().coeffs().allFinite();
+    poses[i] = finite ? r.T_w_c : poses[i - 1];
+    status[i] = r.ok && finite ? "tracked" : "lost";
     keyframes += r.keyframe;
-    lost += !r.ok;
+    lost += !(r.ok && finite);
     marginalized += r.marginalized_keyframes;
     failed_marginalizations += r.marginalization_failed;
     nlohmann::json times = {{"total", frame_ms}};
@@ -185,11 +187,6 @@ int Run(const VoArgs& a) {
     }
   }
   if (!a.quiet) std::cerr << "\n";
-  for (const SE3d& T : poses) {
-    if (!T.translation().allFinite() || !T.rotation().coeffs().allFinite()) {
-      throw std::runtime_error("non-finite pose estimate (a bug: please report)");
-    }
-  }
   io::WriteKittiPoses(a.out, poses);
   const double total_ms = WallMs() - t_start;
   const int window_frames = n - second - 1;
@@ -234,7 +231,8 @@ int Run(const VoArgs& a) {
   }
   if (lost > 0) {
     std::cerr << "plucker vo: warning: " << lost
-              << " frames could not be tracked (their pose is the constant-velocity prediction)\n";
+              << " frames could not be tracked (their pose is the constant-velocity prediction, or "
+                 "the previous pose)\n";
   }
   return 0;
 }
