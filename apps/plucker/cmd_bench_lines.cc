@@ -65,6 +65,12 @@ std::vector<Variant> Variants() {
   o = def;
   o.refine = true;
   v.push_back({"  + sub-pixel refinement", false, o});
+  o = def;
+  o.ed_nfa_validation = true;
+  v.push_back({"  + EDLines NFA validation", false, o});
+  o = def;
+  o.ed_nfa_validation = true;
+  v.push_back({"  + EDLines NFA validation", false, o});
   return v;
 }
 

@@ -22,14 +22,7 @@ namespace {
 using verify::Rng;
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-PinholeIntrinsics TestIntrinsics() {
-  PinholeIntrinsics K;
-  K.fx = 500.0;
-  K.fy = 505.0;
-  K.cx = 320.0;
-  K.cy = 240.0;
-  return K;
-}
+PinholeIntrinsics TestIntrinsics() { return {500.0, 505.0, 320.0, 240.0}; }
 
 // A camera at `centre` looking at the origin (z forward, y roughly down).
 SE3d LookAtOrigin(const Eigen::Vector3d& centre) {

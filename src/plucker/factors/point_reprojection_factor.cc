@@ -12,6 +12,20 @@ bool FinitePoint(const double* p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+// r = S (pi(p_c) - uv). With d_r_d_pc, also S d_uv/d_p_c, the link every block's Jacobian starts
+// from. False when p_c is not in front of the camera.
+bool WhitenedResidual(const PointObservation& obs, const Eigen::Vector3d& p_c, double* residuals,
+                      Eigen::Matrix<double, 2, 3>* d_r_d_pc) {
+  Eigen::Matrix<double, 2, 3> d_uv_d_pc;
+  const std::optional<Eigen::Vector2d> uv =
+      ProjectCameraPoint(obs.K, p_c, d_r_d_pc ? &d_uv_d_pc : nullptr, kPointMinDepth);
+  if (!uv) return false;
+  Eigen::Map<Eigen::Vector2d> r(residuals);
+  r = obs.sqrt_information * (*uv - obs.uv);
+  if (d_r_d_pc) *d_r_d_pc = obs.sqrt_information * d_uv_d_pc;
+  return true;
+}
+
 }  // namespace
 
 PointObservation MakePointObservation(const PinholeIntrinsics& K, const Eigen::Vector2d& uv,
@@ -52,15 +66,10 @@ bool PointReprojectionFactor::Evaluate(double const* const* parameters, double* 
   // p_c = R^T (p_w - t).
   const Eigen::Vector3d p_c = R.transpose() * (p_w - t);
   const bool need_j = jacobians && (jacobians[0] || jacobians[1]);
-  Eigen::Matrix<double, 2, 3> d_uv_d_pc;
-  const std::optional<Eigen::Vector2d> uv =
-      ProjectCameraPoint(obs_.K, p_c, need_j ? &d_uv_d_pc : nullptr, kPointMinDepth);
-  if (!uv) return false;
-  Eigen::Map<Eigen::Vector2d> r(residuals);
-  r = obs_.sqrt_information * (*uv - obs_.uv);
-  if (!need_j) return true;
   // A = S d_uv/d_p_c;  d p_c/d p_w = R^T,  d p_c/d dtheta = [p_c]x,  d p_c/d dt = -R^T.
-  const Eigen::Matrix<double, 2, 3> A = obs_.sqrt_information * d_uv_d_pc;
+  Eigen::Matrix<double, 2, 3> A;
+  if (!WhitenedResidual(obs_, p_c, residuals, need_j ? &A : nullptr)) return false;
+  if (!need_j) return true;
   const Eigen::Matrix<double, 2, 3> d_r_d_pw = A * R.transpose();
   if (jacobians[0]) {
     pose_block::WriteAmbient<2>(A * Hat<double>(p_c), -d_r_d_pw, q, jacobians[0]);
@@ -101,18 +110,13 @@ bool PointReprojectionFactorVI::Evaluate(double const* const* parameters, double
   const Eigen::Vector3d p_b = R_wb.transpose() * (p_w - t_wb);
   const Eigen::Vector3d p_c = R_bc.transpose() * (p_b - t_bc);
   const bool need_j = jacobians && (jacobians[0] || jacobians[1] || jacobians[2]);
-  Eigen::Matrix<double, 2, 3> d_uv_d_pc;
-  const std::optional<Eigen::Vector2d> uv =
-      ProjectCameraPoint(obs_.K, p_c, need_j ? &d_uv_d_pc : nullptr, kPointMinDepth);
-  if (!uv) return false;
-  Eigen::Map<Eigen::Vector2d> r(residuals);
-  r = obs_.sqrt_information * (*uv - obs_.uv);
+  Eigen::Matrix<double, 2, 3> A;
+  if (!WhitenedResidual(obs_, p_c, residuals, need_j ? &A : nullptr)) return false;
   if (!need_j) return true;
   // A = S d_uv/d_p_c, B = A R_bc^T = S d_uv/d_p_b.
   //   T_b_c:  d p_c/d dtheta_bc = [p_c]x,        d p_c/d dt_bc = -R_bc^T
   //   T_w_b:  d p_b/d dtheta_wb = [p_b]x,        d p_b/d dt_wb = -R_wb^T
   //   p_w:    d p_b/d p_w = R_wb^T
-  const Eigen::Matrix<double, 2, 3> A = obs_.sqrt_information * d_uv_d_pc;
   const Eigen::Matrix<double, 2, 3> B = A * R_bc.transpose();
   const Eigen::Matrix<double, 2, 3> d_r_d_pw = B * R_wb.transpose();
   if (jacobians[0]) {

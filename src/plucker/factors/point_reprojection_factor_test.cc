@@ -24,14 +24,7 @@ using RowMajor27 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-PinholeIntrinsics TestCamera() {
-  PinholeIntrinsics K;
-  K.fx = 500;
-  K.fy = 510;
-  K.cx = 320;
-  K.cy = 240;
-  return K;
-}
+PinholeIntrinsics TestCamera() { return {500, 510, 320, 240}; }
 
 TEST(PointReprojectionFactor, CreateRejectsBadInput) {
   const PinholeIntrinsics K = TestCamera();

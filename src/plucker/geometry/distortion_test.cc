@@ -8,14 +8,7 @@ namespace plucker {
 namespace {
 
 // KITTI raw cam 0 calibration (1392 x 512 image).
-PinholeIntrinsics KittiK() {
-  PinholeIntrinsics K;
-  K.fx = 984.2439;
-  K.fy = 980.8141;
-  K.cx = 690.0;
-  K.cy = 233.1966;
-  return K;
-}
+PinholeIntrinsics KittiK() { return {984.2439, 980.8141, 690.0, 233.1966}; }
 RadTanDistortion KittiD() {
   RadTanDistortion D;
   D.k1 = -0.3745594;
@@ -64,11 +57,7 @@ void ExpectRoundTripsOnGrid(const PinholeIntrinsics& K, const RadTanDistortion& 
 TEST(Distortion, RoundTripKittiGrid) { ExpectRoundTripsOnGrid(KittiK(), KittiD(), 1392, 512); }
 
 TEST(Distortion, RoundTripStrongGrid) {
-  PinholeIntrinsics K;
-  K.fx = K.fy = 500;
-  K.cx = 320;
-  K.cy = 240;
-  ExpectRoundTripsOnGrid(K, StrongD(), 640, 480);
+  ExpectRoundTripsOnGrid(PinholeIntrinsics{500, 500, 320, 240}, StrongD(), 640, 480);
 }
 
 TEST(Distortion, ZeroDistortionIsIdentity) {

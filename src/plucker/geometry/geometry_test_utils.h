@@ -11,14 +11,7 @@ namespace plucker {
 namespace testing_utils {
 
 // Intrinsics with distinct fx, fy so that axis mix-ups show.
-inline PinholeIntrinsics TestK() {
-  PinholeIntrinsics K;
-  K.fx = 500;
-  K.fy = 480;
-  K.cx = 320;
-  K.cy = 240;
-  return K;
-}
+inline PinholeIntrinsics TestK() { return {500, 480, 320, 240}; }
 
 // Camera pose T_w_c at centre c looking at target (z axis towards it), rolled about the viewing
 // axis.

@@ -12,14 +12,7 @@ namespace {
 
 using verify::Rng;
 
-PinholeIntrinsics TestIntrinsics() {
-  PinholeIntrinsics K;
-  K.fx = 520.0;
-  K.fy = 510.0;
-  K.cx = 321.0;
-  K.cy = 243.0;
-  return K;
-}
+PinholeIntrinsics TestIntrinsics() { return {520.0, 510.0, 321.0, 243.0}; }
 
 TEST(LineProjection, LineIntrinsicsIsDetKTimesInverseTranspose) {
   const PinholeIntrinsics K = TestIntrinsics();

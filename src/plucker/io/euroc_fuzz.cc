@@ -1,11 +1,12 @@
-// libFuzzer target: EuRoC IMU and ground-truth CSV files and IMU sensor.yaml through
-// io/euroc_imu.h. Built as a fuzzer with -DPLUCKER_BUILD_FUZZERS=ON (clang, cmake/Fuzzers.cmake);
-// io/fuzz_test.cc runs the same entry point as a unit test.
+// libFuzzer target: EuRoC IMU, ground-truth and camera CSV files and IMU sensor.yaml through
+// io/euroc_imu.h and io/euroc_dataset.h. Built as a fuzzer with -DPLUCKER_BUILD_FUZZERS=ON (clang,
+// cmake/Fuzzers.cmake); io/fuzz_test.cc runs the same entry point as a unit test.
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "plucker/io/euroc_dataset.h"
 #include "plucker/io/euroc_imu.h"
 #include "plucker/io/fuzz_util.h"
 #include "plucker/io/io_error.h"
@@ -22,7 +23,8 @@ std::vector<std::string> EurocSeeds() {
       "1000,1,2,3,1,0,0,0,0.1,0.2,0.3,0.01,0.02,0.03,0.1,0.2,0.3\n",
       "%YAML:1.0\nrate_hz: 200\ngyroscope_noise_density: 1.6968e-04\n"
       "gyroscope_random_walk: 1.9393e-05\naccelerometer_noise_density: 2.0e-3\n"
-      "accelerometer_random_walk: 3.0e-3\n"};
+      "accelerometer_random_walk: 3.0e-3\n",
+      "#timestamp [ns],filename\n1000,1000.png\n1000,1000.png\n900,x.png\n"};
 }
 
 int EurocOneInput(const std::uint8_t* data, std::size_t size) {
@@ -41,6 +43,14 @@ int EurocOneInput(const std::uint8_t* data, std::size_t size) {
       Check(std::abs(s.T_w_b.rotation().norm() - 1.0) < 1e-6, "quaternion not unit");
       Check(s.T_w_b.translation().allFinite() && s.v_w.allFinite(), "non-finite state");
     }
+  } catch (const IoError&) {
+  }
+  try {
+    // The image folder does not exist: every row is skipped or an error, none is kept.
+    std::vector<std::string> skipped;
+    Check(
+        ParseEurocCameraCsv(text, "fuzz_cam.csv", "/nonexistent-plucker-fuzz", 0, &skipped).empty(),
+        "a frame without its image file was kept");
   } catch (const IoError&) {
   }
   try {

@@ -29,17 +29,6 @@ std::vector<std::string> SplitFields(const std::string& row) {
   return fields;
 }
 
-std::int64_t ParseNanoseconds(const std::string& field, const std::string& where) {
-  errno = 0;
-  char* end = nullptr;
-  const long long v = std::strtoll(field.c_str(), &end, 10);
-  while (end && (*end == ' ' || *end == '\r')) ++end;
-  if (end == field.c_str() || *end != '\0' || errno == ERANGE || v < 0) {
-    throw IoError(where, "bad timestamp '" + field + "' (need integer nanoseconds)");
-  }
-  return v;
-}
-
 double ParseFinite(const std::string& field, const std::string& where) {
   char* end = nullptr;
   const double v = std::strtod(field.c_str(), &end);
@@ -69,7 +58,7 @@ void ForEachRow(const std::string& text, const std::string& name, std::size_t co
       throw IoError(where,
                     std::to_string(fields.size()) + " fields, expected " + std::to_string(columns));
     }
-    const std::int64_t ns = ParseNanoseconds(fields[0], where);
+    const std::int64_t ns = ParseEurocNanoseconds(fields[0], where);
     if (ns <= last_ns) throw IoError(where, "timestamp does not increase");
     last_ns = ns;
     std::vector<double> v(columns - 1);
@@ -87,7 +76,7 @@ std::int64_t FirstTimestamp(const std::string& text, const std::string& name) {
   while (first < 0 && std::getline(in, line)) {
     ++line_no;
     if (line.empty() || line[0] == '#' || line == "\r") continue;
-    first = ParseNanoseconds(SplitFields(line)[0], Where(name, line_no));
+    first = ParseEurocNanoseconds(SplitFields(line)[0], Where(name, line_no));
   }
   if (first < 0) throw IoError(name, "empty file: no data rows");
   return first;
@@ -128,6 +117,17 @@ void CheckIdentityTbs(const YAML::Node& root, const std::string& name) {
 }
 
 }  // namespace
+
+std::int64_t ParseEurocNanoseconds(const std::string& field, const std::string& where) {
+  errno = 0;
+  char* end = nullptr;
+  const long long v = std::strtoll(field.c_str(), &end, 10);
+  while (end && (*end == ' ' || *end == '\r')) ++end;
+  if (end == field.c_str() || *end != '\0' || errno == ERANGE || v < 0) {
+    throw IoError(where, "bad timestamp '" + field + "' (need integer nanoseconds)");
+  }
+  return v;
+}
 
 std::vector<sensor::ImuSample> ParseEurocImuCsv(const std::string& text, const std::string& name,
                                                 std::int64_t origin_ns) {

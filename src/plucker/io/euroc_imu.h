@@ -45,6 +45,9 @@ std::vector<sensor::BodyState> ParseEurocGroundTruthCsv(const std::string& text,
                                                         const std::string& name,
                                                         std::int64_t origin_ns);
 sensor::ImuModel ParseEurocImuYaml(const std::string& text, const std::string& name);
+// A timestamp field: integer nanoseconds >= 0 (blanks after it allowed). `where` is used in the
+// error message.
+std::int64_t ParseEurocNanoseconds(const std::string& field, const std::string& where);
 
 }  // namespace io
 }  // namespace plucker

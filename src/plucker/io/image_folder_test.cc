@@ -1,26 +1,20 @@
 #include "plucker/io/image_folder.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
 
+#include "plucker/io/io_test_utils.h"
+
 namespace plucker {
 namespace io {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("plucker_image_folder_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using testing::ScratchDir;
 
 void WriteImage(const fs::path& path, int width, int height, int channels = 1) {
   cv::Mat image(height, width, channels == 1 ? CV_8UC1 : CV_8UC3, cv::Scalar::all(0));
@@ -38,7 +32,8 @@ std::string ProblemOf(const std::function<void()>& f) {
 }
 
 TEST(ImageFolder, ImagesInNameOrderOthersIgnored) {
-  const fs::path dir = TempDir("order");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   WriteImage(dir / "b.png", 8, 6);
   WriteImage(dir / "a.JPG", 8, 6, 3);
   WriteImage(dir / "c.pgm", 8, 6);
@@ -60,7 +55,8 @@ TEST(ImageFolder, ImagesInNameOrderOthersIgnored) {
 }
 
 TEST(ImageFolder, BadInput) {
-  const fs::path dir = TempDir("bad");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   EXPECT_NE(ProblemOf([&] { ListImageFiles(dir.string()); }).find("no image files"),
             std::string::npos);
   EXPECT_NE(ProblemOf([&] { ListImageFiles((dir / "nope").string()); }).find("not a folder"),

@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -10,19 +9,14 @@
 #include <limits>
 #include <random>
 
+#include "plucker/io/io_test_utils.h"
+
 namespace plucker {
 namespace io {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("plucker_kitti_lidar_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using testing::ScratchDir;
 
 std::string Records(const std::vector<std::array<float, 4>>& recs) {
   std::string bytes(recs.size() * 16, '\0');
@@ -71,7 +65,8 @@ TEST(KittiBin, ParseIntoAScanReplacesItAndReusesItsMemory) {
 }
 
 TEST(KittiBin, ReadFileIntoReusesTheBuffer) {
-  const fs::path dir = TempDir("read_into");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   std::string big(100000, 'x'), small = "0123456789";
   WriteRaw(dir / "big", big);
   WriteRaw(dir / "small", small);
@@ -87,7 +82,6 @@ TEST(KittiBin, ReadFileIntoReusesTheBuffer) {
   EXPECT_TRUE(bytes.empty());
   EXPECT_EQ(ReadFileToString((dir / "big").string()), big);
   EXPECT_THROW(ReadFileInto((dir / "absent").string(), &bytes), IoError);
-  fs::remove_all(dir);
 }
 
 TEST(KittiBin, DropsAndCountsNonFinite) {
@@ -104,7 +98,8 @@ TEST(KittiBin, DropsAndCountsNonFinite) {
 }
 
 TEST(KittiBin, ErrorsNameTheFile) {
-  const fs::path dir = TempDir("errors");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   const fs::path truncated = dir / "truncated.bin", empty = dir / "empty.bin",
                  all_nan = dir / "nan.bin";
   WriteRaw(truncated, Records({{1, 2, 3, 4}}) + "abc");
@@ -127,11 +122,11 @@ TEST(KittiBin, ErrorsNameTheFile) {
       EXPECT_NE(std::string(e.what()).find(c.problem), std::string::npos) << e.what();
     }
   }
-  fs::remove_all(dir);
 }
 
 TEST(KittiBin, WriteReadRoundTrip) {
-  const fs::path dir = TempDir("roundtrip");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   LidarScan scan;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-50, 50);
@@ -147,7 +142,6 @@ TEST(KittiBin, WriteReadRoundTrip) {
     EXPECT_EQ(back.points[i], scan.points[i]);  // float values round-trip exactly
     EXPECT_EQ(back.intensity[i], scan.intensity[i]);
   }
-  fs::remove_all(dir);
 }
 
 TEST(KittiCalib, ParsesTrAndReorthonormalises) {
@@ -198,13 +192,13 @@ TEST(KittiTimes, ParsesAndValidates) {
 }
 
 TEST(KittiTimes, WriteReadRoundTrip) {
-  const fs::path dir = TempDir("times");
+  const ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   const std::vector<double> t = {0.0, 0.1037359, 0.2073381, 1e4};
   WriteKittiTimes((dir / "times.txt").string(), t);
   const std::vector<double> back = ReadKittiTimes((dir / "times.txt").string());
   ASSERT_EQ(back.size(), t.size());
   for (std::size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(back[i], t[i], 1e-9 * (1 + t[i]));
-  fs::remove_all(dir);
 }
 
 TEST(KittiBin, RealKittiScans) {

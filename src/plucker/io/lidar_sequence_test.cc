@@ -1,10 +1,10 @@
 #include "plucker/io/lidar_sequence.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 
+#include "plucker/io/io_test_utils.h"
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
 
@@ -16,15 +16,6 @@ namespace fs = std::filesystem;
 
 class LidarSequenceTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plucker_seq_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static LidarScan Scan(int n, double offset) {
     LidarScan s;
     for (int i = 0; i < n; ++i) {
@@ -48,7 +39,8 @@ class LidarSequenceTest : public ::testing::Test {
     Write(seq / "calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nTr: 0 -1 0 0.1 0 0 -1 0.2 1 0 0 0.3\n");
     WriteKittiTimes((seq / "times.txt").string(), {0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6});
   }
-  fs::path dir_;
+  const testing::ScratchDir scratch_;
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(LidarSequenceTest, KittiSequenceWithGapsAndBadFrames) {

@@ -1,13 +1,14 @@
 #include "plucker/io/pcd.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <limits>
+
+#include "plucker/io/io_test_utils.h"
 
 namespace plucker {
 namespace io {
@@ -94,15 +95,14 @@ TEST(Pcd, AsciiAndBinaryRoundTrip) {
 }
 
 TEST(Pcd, WriteReadFile) {
-  const fs::path dir = fs::temp_directory_path() / ("plucker_pcd_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const testing::ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   const LidarScan scan = MakeScan(true);
   WritePcd((dir / "a.pcd").string(), scan);
   ExpectSameScan(scan, ReadPcd((dir / "a.pcd").string()));
   EXPECT_TRUE(ReadPcdHeader((dir / "a.pcd").string()).has_time());
   EXPECT_THROW(WritePcd((dir / "b.pcd").string(), scan, PcdEncoding::kBinaryCompressed), IoError);
   EXPECT_THROW(ReadPcd((dir / "absent.pcd").string()), IoError);
-  fs::remove_all(dir);
 }
 
 TEST(Pcd, MixedTypesCountsAndOusterTime) {

@@ -1,9 +1,10 @@
 #include "plucker/io/ply.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
+
+#include "plucker/io/io_test_utils.h"
 
 namespace plucker {
 namespace io {
@@ -28,8 +29,8 @@ void ExpectError(const std::string& bytes, const std::string& what) {
 }
 
 TEST(Ply, RoundTripBothFormats) {
-  const fs::path dir = fs::temp_directory_path() / ("plucker_ply_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const testing::ScratchDir scratch;
+  const fs::path& dir = scratch.path();
   const std::vector<Eigen::Vector3d> pts = Points();
   std::vector<float> intensity;
   for (std::size_t i = 0; i < pts.size(); ++i) intensity.push_back(0.01f * i);
@@ -50,7 +51,6 @@ TEST(Ply, RoundTripBothFormats) {
   }
   EXPECT_EQ(fs::file_size(dir / "m.ply") > 0, true);
   EXPECT_THROW(WritePly((dir / "bad.ply").string(), pts, std::vector<float>(3)), IoError);
-  fs::remove_all(dir);
 }
 
 TEST(Ply, ReadsOtherPropertiesAndTrailingElements) {

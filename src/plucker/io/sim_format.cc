@@ -261,7 +261,9 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   }
   for (const auto& [key, n] : expected) {
     (void)n;
-    if (!by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
+    // The initial biases are ground truth: a folder without it may leave them out.
+    const bool optional = key == "imu_initial_bias" && !sequence->ground_truth;
+    if (!optional && !by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
   }
   sensor::CameraRig& rig = sequence->rig;
   const Record& image = *by_key["image"];
@@ -285,10 +287,11 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   for (int i = 1; i <= 4; ++i) {
     if (p.Double(noise, i) < 0) p.Fail(noise, "imu_noise: densities must be >= 0");
   }
-  const Record& bias = *by_key["imu_initial_bias"];
-  sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
-  gt.initial_gyro_bias = p.Vec3(bias, 1);
-  gt.initial_accel_bias = p.Vec3(bias, 4);
+  if (sequence->ground_truth && by_key.count("imu_initial_bias")) {
+    const Record& bias = *by_key["imu_initial_bias"];
+    sequence->ground_truth->initial_gyro_bias = p.Vec3(bias, 1);
+    sequence->ground_truth->initial_accel_bias = p.Vec3(bias, 4);
+  }
   sequence->gravity_w = p.Vec3(*by_key["gravity"], 1);
 
   sensor::ObservationModel& obs = sequence->observation_model;
@@ -318,49 +321,79 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   counts->segments = p.Int(c, 4, 0, LLONG_MAX);
 }
 
-void ReadFrames(const std::string& trajectory_path, const std::string& body_path,
-                sensor::CameraImuSequence* sequence) {
+// frames.txt: one time a row, one row a frame.
+void ReadFrameTimes(const std::string& path, std::vector<double>* frame_times) {
+  const FileParser p(path);
+  for (const Record& r : p.records()) {
+    p.ExpectFields(r, 1, "frame time (t)");
+    const double t = p.Double(r, 0);
+    if (!frame_times->empty() && !(t > frame_times->back())) p.Fail(r, "frame times must increase");
+    frame_times->push_back(t);
+  }
+  if (frame_times->empty()) throw IoError(path, "no frames");
+}
+
+// trajectory.txt and body_states.txt, one row a frame at the times of frames.txt (folders
+// written before frames.txt existed: the times of trajectory.txt).
+void ReadGroundTruthFrames(const std::string& trajectory_path, const std::string& body_path,
+                           sensor::CameraImuSequence* sequence) {
   std::vector<double>& frame_times = sequence->frame_times;
   sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
+  if (frame_times.empty()) {
+    const FileParser tp(trajectory_path);
+    for (const Record& r : tp.records()) {
+      if (!frame_times.empty() && !(tp.Double(r, 0) > frame_times.back())) {
+        tp.Fail(r, "frame times must increase");
+      }
+      frame_times.push_back(tp.Double(r, 0));
+    }
+    if (frame_times.empty()) throw IoError(trajectory_path, "no frames");
+  }
+  auto check_time = [&](const FileParser& p, const Record& r, std::size_t i) {
+    if (i >= frame_times.size()) p.Fail(r, "more rows than frames.txt has frames");
+    if (p.Double(r, 0) != frame_times[i]) {
+      p.Fail(r, "time differs from frames.txt row " + std::to_string(i + 1));
+    }
+  };
   const FileParser tp(trajectory_path);
   for (const Record& r : tp.records()) {
     tp.ExpectFields(r, 8, "trajectory row (t tx ty tz qx qy qz qw)");
-    const double t = tp.Double(r, 0);
-    if (!frame_times.empty() && !(t > frame_times.back())) {
-      tp.Fail(r, "frame times must increase");
-    }
-    frame_times.push_back(t);
+    check_time(tp, r, gt.T_w_c.size());
     gt.T_w_c.push_back(tp.Pose(r, 1));
   }
-  if (frame_times.empty()) throw IoError(trajectory_path, "no frames");
   const FileParser bp(body_path);
   for (const Record& r : bp.records()) {
     bp.ExpectFields(r, 11, "body state row (t tx ty tz qx qy qz qw vx vy vz)");
-    const std::size_t i = gt.T_w_b.size();
-    if (i >= frame_times.size()) bp.Fail(r, "more rows than trajectory.txt has frames");
-    if (bp.Double(r, 0) != frame_times[i]) {
-      bp.Fail(r, "time differs from trajectory.txt row " + std::to_string(i + 1));
-    }
+    check_time(bp, r, gt.T_w_b.size());
     gt.T_w_b.push_back(bp.Pose(r, 1));
     gt.v_w.push_back(bp.Vec3(r, 8));
   }
-  if (gt.T_w_b.size() != frame_times.size()) {
-    throw IoError(body_path, "has " + std::to_string(gt.T_w_b.size()) +
-                                 " rows, trajectory.txt has " + std::to_string(frame_times.size()));
+  for (const auto& [path, rows] :
+       {std::pair{trajectory_path, gt.T_w_c.size()}, std::pair{body_path, gt.T_w_b.size()}}) {
+    if (rows != frame_times.size()) {
+      throw IoError(path, "has " + std::to_string(rows) + " rows, frames.txt has " +
+                              std::to_string(frame_times.size()));
+    }
   }
 }
 
 void ReadImu(const std::string& path, std::vector<sensor::ImuSample>* imu) {
   const FileParser p(path);
+  bool biases = false;  // the bias columns are ground truth: all rows have them or none
   for (const Record& r : p.records()) {
-    p.ExpectFields(r, 13, "imu row (t gyro accel gyro_bias accel_bias)");
+    if (imu->empty()) biases = r.fields.size() == 13;
+    p.ExpectFields(
+        r, biases ? 13 : 7,
+        biases ? "imu row (t gyro accel gyro_bias accel_bias)" : "imu row (t gyro accel)");
     sensor::ImuSample s;
     s.t = p.Double(r, 0);
     if (!imu->empty() && !(s.t > imu->back().t)) p.Fail(r, "imu times must increase");
     s.gyro = p.Vec3(r, 1);
     s.accel = p.Vec3(r, 4);
-    s.gyro_bias = p.Vec3(r, 7);
-    s.accel_bias = p.Vec3(r, 10);
+    if (biases) {
+      s.gyro_bias = p.Vec3(r, 7);
+      s.accel_bias = p.Vec3(r, 10);
+    }
     imu->push_back(s);
   }
 }
@@ -368,7 +401,10 @@ void ReadImu(const std::string& path, std::vector<sensor::ImuSample>* imu) {
 void ReadObservations(const std::string& points_path, const std::string& segments_path,
                       sensor::CameraImuSequence* sequence) {
   const long long last_frame = static_cast<long long>(sequence->frame_times.size()) - 1;
-  const sensor::CameraImuGroundTruth& gt = sequence->ground_truth.value();
+  // With a scene, ids index its points and segments; without, they are any track ids.
+  const auto& gt = sequence->ground_truth;
+  const long long max_point_id = gt ? static_cast<long long>(gt->points_w.size()) - 1 : INT_MAX;
+  const long long max_line_id = gt ? static_cast<long long>(gt->segments_w.size()) - 1 : INT_MAX;
   std::vector<sensor::PointObservation>& points = sequence->points;
   std::vector<sensor::SegmentObservation>& segments = sequence->segments;
   const FileParser pp(points_path);
@@ -376,7 +412,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
     pp.ExpectFields(r, 4, "point observation (frame point_id u v)");
     sensor::PointObservation o;
     o.frame = static_cast<int>(pp.Int(r, 0, 0, last_frame));
-    o.point_id = static_cast<int>(pp.Int(r, 1, -1, static_cast<long long>(gt.points_w.size()) - 1));
+    o.point_id = static_cast<int>(pp.Int(r, 1, -1, max_point_id));
     o.uv = Vector2d(pp.Double(r, 2), pp.Double(r, 3));
     if (!points.empty() && o.frame < points.back().frame) {
       pp.Fail(r, "observations must be sorted by frame");
@@ -388,8 +424,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
     sp.ExpectFields(r, 6, "segment observation (frame line_id su sv eu ev)");
     sensor::SegmentObservation o;
     o.frame = static_cast<int>(sp.Int(r, 0, 0, last_frame));
-    o.line_id =
-        static_cast<int>(sp.Int(r, 1, -1, static_cast<long long>(gt.segments_w.size()) - 1));
+    o.line_id = static_cast<int>(sp.Int(r, 1, -1, max_line_id));
     o.s_px = Vector2d(sp.Double(r, 2), sp.Double(r, 3));
     o.e_px = Vector2d(sp.Double(r, 4), sp.Double(r, 5));
     if (!segments.empty() && o.frame < segments.back().frame) {
@@ -399,21 +434,14 @@ void ReadObservations(const std::string& points_path, const std::string& segment
   }
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// Writing the folder, file by file.
 
-const std::vector<std::string>& CameraImuSequenceFileNames() {
-  static const std::vector<std::string> names = {"scene.txt",       "rig.txt", "trajectory.txt",
-                                                 "body_states.txt", "imu.txt", "points.txt",
-                                                 "segments.txt"};
-  return names;
-}
-
-void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSequence& sequence) {
-  if (!sequence.ground_truth) {
-    throw IoError(dir, "the format needs the ground truth (scene, trajectories); none given");
-  }
-  const sensor::CameraImuGroundTruth& gt = *sequence.ground_truth;
+void CheckWritable(const std::string& dir, const sensor::CameraImuSequence& sequence) {
   const std::size_t n = sequence.frame_times.size();
+  if (n == 0) throw IoError(dir, "the sequence has no frames");
+  if (!sequence.ground_truth) return;
+  const sensor::CameraImuGroundTruth& gt = *sequence.ground_truth;
   if (gt.T_w_c.size() != n || gt.T_w_b.size() != n || gt.v_w.size() != n) {
     throw IoError(dir,
                   "inconsistent sequence: frame_times and the ground truth T_w_c, T_w_b and v_w "
@@ -425,115 +453,168 @@ void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSeque
   if (gt.scene_kind.empty() || gt.scene_kind.find_first_of(" \t\n\r#") != std::string::npos) {
     throw IoError(dir, "the scene kind must be one word: '" + gt.scene_kind + "'");
   }
+}
+
+void WriteRig(const std::string& path, const std::string& header,
+              const sensor::CameraImuSequence& sequence) {
+  Writer w(path);
+  const sensor::CameraRig& rig = sequence.rig;
+  const sensor::ImuModel& imu = sequence.imu_model;
+  const sensor::ObservationModel& obs = sequence.observation_model;
+  w.Text(header).Text("# camera rig, IMU and observation noise models\n");
+  w.Text("image").Int(rig.width).Int(rig.height).EndLine();
+  w.Text("intrinsics").Num(rig.K.fx).Num(rig.K.fy).Num(rig.K.cx).Num(rig.K.cy).EndLine();
+  w.Text("T_b_c").Pose(rig.T_b_c).EndLine();
+  w.Text("imu_rate_hz").Num(imu.rate_hz).EndLine();
+  w.Text("imu_noise").Num(imu.gyro_noise_density).Num(imu.accel_noise_density);
+  w.Num(imu.gyro_bias_random_walk).Num(imu.accel_bias_random_walk).EndLine();
+  if (const auto& gt = sequence.ground_truth) {
+    w.Text("imu_initial_bias").Vec(gt->initial_gyro_bias).Vec(gt->initial_accel_bias).EndLine();
+  }
+  w.Text("gravity").Vec(sequence.gravity_w).EndLine();
+  w.Text("pixel_sigma").Num(obs.pixel_sigma).EndLine();
+  w.Text("outlier_ratio").Num(obs.outlier_ratio).EndLine();
+  w.Text("min_segment_px").Num(obs.min_segment_px).EndLine();
+  w.Text("depth_range").Num(obs.min_depth).Num(obs.max_depth).EndLine();
+  w.Text("observe").Int(obs.observe_points).Int(obs.observe_segments).EndLine();
+  w.Text("counts").Int(static_cast<long long>(sequence.frame_times.size()));
+  w.Int(static_cast<long long>(sequence.imu.size()));
+  w.Int(static_cast<long long>(sequence.points.size()));
+  w.Int(static_cast<long long>(sequence.segments.size())).EndLine();
+  w.Commit();
+}
+
+void WriteScene(const std::string& path, const std::string& header,
+                const sensor::CameraImuGroundTruth& s) {
+  Writer w(path);
+  w.Text(header).Text("# kind K | free_space min max | plane id mx my mz e | ");
+  w.Text("point id x y z plane_id | segment id ax ay az bx by bz\n");
+  w.Text("kind " + s.scene_kind).EndLine();
+  w.Text("counts").Int(static_cast<long long>(s.planes_w.size()));
+  w.Int(static_cast<long long>(s.points_w.size()));
+  w.Int(static_cast<long long>(s.segments_w.size())).EndLine();
+  w.Text("free_space").Vec(s.free_space_w.min()).Vec(s.free_space_w.max()).EndLine();
+  for (std::size_t i = 0; i < s.planes_w.size(); ++i) {
+    w.Text("plane").Int(static_cast<long long>(i)).Vec(s.planes_w[i]).EndLine();
+  }
+  for (std::size_t i = 0; i < s.points_w.size(); ++i) {
+    w.Text("point").Int(static_cast<long long>(i)).Vec(s.points_w[i]);
+    w.Int(s.point_plane_ids[i]).EndLine();
+  }
+  for (std::size_t i = 0; i < s.segments_w.size(); ++i) {
+    w.Text("segment").Int(static_cast<long long>(i)).Vec(s.segments_w[i].a_w);
+    w.Vec(s.segments_w[i].b_w).EndLine();
+  }
+  w.Commit();
+}
+
+void WriteGroundTruth(const std::string& dir, const std::string& header,
+                      const sensor::CameraImuSequence& sequence) {
+  const sensor::CameraImuGroundTruth& gt = *sequence.ground_truth;
+  WriteScene(Join(dir, "scene.txt"), header, gt);
+  Writer traj(Join(dir, "trajectory.txt"));
+  traj.Text(header).Text("# T_w_c per frame (TUM): t tx ty tz qx qy qz qw\n");
+  Writer body(Join(dir, "body_states.txt"));
+  body.Text(header).Text("# T_w_b and v_w per frame: t tx ty tz qx qy qz qw vx vy vz\n");
+  for (std::size_t i = 0; i < sequence.frame_times.size(); ++i) {
+    traj.Num(sequence.frame_times[i]).Pose(gt.T_w_c[i]).EndLine();
+    body.Num(sequence.frame_times[i]).Pose(gt.T_w_b[i]).Vec(gt.v_w[i]).EndLine();
+  }
+  traj.Commit();
+  body.Commit();
+}
+
+// The bias columns are ground truth: written with it, left out without.
+void WriteImu(const std::string& path, const std::string& header,
+              const sensor::CameraImuSequence& sequence) {
+  const bool biases = sequence.ground_truth.has_value();
+  Writer w(path);
+  w.Text(header).Text(biases
+                          ? "# t gx gy gz ax ay az bgx bgy bgz bax bay baz (biases: ground truth)\n"
+                          : "# t gx gy gz ax ay az\n");
+  for (const sensor::ImuSample& s : sequence.imu) {
+    w.Num(s.t).Vec(s.gyro).Vec(s.accel);
+    if (biases) w.Vec(s.gyro_bias).Vec(s.accel_bias);
+    w.EndLine();
+  }
+  w.Commit();
+}
+
+void WriteObservations(const std::string& dir, const std::string& header,
+                       const sensor::CameraImuSequence& sequence) {
+  Writer p(Join(dir, "points.txt"));
+  p.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
+  for (const sensor::PointObservation& o : sequence.points) {
+    p.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
+  }
+  p.Commit();
+  Writer s(Join(dir, "segments.txt"));
+  s.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
+  for (const sensor::SegmentObservation& o : sequence.segments) {
+    s.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
+  }
+  s.Commit();
+}
+
+}  // namespace
+
+const std::vector<std::string>& CameraImuSequenceFileNames() {
+  static const std::vector<std::string> names = {"rig.txt",        "frames.txt",      "scene.txt",
+                                                 "trajectory.txt", "body_states.txt", "imu.txt",
+                                                 "points.txt",     "segments.txt"};
+  return names;
+}
+
+void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSequence& sequence) {
+  CheckWritable(dir, sequence);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw IoError(dir, "cannot create the folder: " + ec.message());
-
   // rig.txt first: its header marks the folder as a simulation (IsSafeToWriteCameraImuSequence).
   const std::string header = std::string(kHeader) + " (docs/sim-format.md), format 1\n";
+  WriteRig(Join(dir, "rig.txt"), header, sequence);
   {
-    Writer w(Join(dir, "rig.txt"));
-    const sensor::CameraRig& rig = sequence.rig;
-    const sensor::ImuModel& imu = sequence.imu_model;
-    const sensor::ObservationModel& obs = sequence.observation_model;
-    w.Text(header).Text("# camera rig, IMU and observation noise models\n");
-    w.Text("image").Int(rig.width).Int(rig.height).EndLine();
-    w.Text("intrinsics").Num(rig.K.fx).Num(rig.K.fy).Num(rig.K.cx).Num(rig.K.cy).EndLine();
-    w.Text("T_b_c").Pose(rig.T_b_c).EndLine();
-    w.Text("imu_rate_hz").Num(imu.rate_hz).EndLine();
-    w.Text("imu_noise")
-        .Num(imu.gyro_noise_density)
-        .Num(imu.accel_noise_density)
-        .Num(imu.gyro_bias_random_walk)
-        .Num(imu.accel_bias_random_walk)
-        .EndLine();
-    w.Text("imu_initial_bias").Vec(gt.initial_gyro_bias).Vec(gt.initial_accel_bias).EndLine();
-    w.Text("gravity").Vec(sequence.gravity_w).EndLine();
-    w.Text("pixel_sigma").Num(obs.pixel_sigma).EndLine();
-    w.Text("outlier_ratio").Num(obs.outlier_ratio).EndLine();
-    w.Text("min_segment_px").Num(obs.min_segment_px).EndLine();
-    w.Text("depth_range").Num(obs.min_depth).Num(obs.max_depth).EndLine();
-    w.Text("observe").Int(obs.observe_points).Int(obs.observe_segments).EndLine();
-    w.Text("counts")
-        .Int(static_cast<long long>(n))
-        .Int(static_cast<long long>(sequence.imu.size()));
-    w.Int(static_cast<long long>(sequence.points.size()));
-    w.Int(static_cast<long long>(sequence.segments.size())).EndLine();
+    Writer w(Join(dir, "frames.txt"));
+    w.Text(header).Text("# t: the time of each frame\n");
+    for (double t : sequence.frame_times) w.Num(t).EndLine();
     w.Commit();
   }
-  {
-    Writer w(Join(dir, "scene.txt"));
-    const sensor::CameraImuGroundTruth& s = gt;
-    w.Text(header).Text("# kind K | free_space min max | plane id mx my mz e | ");
-    w.Text("point id x y z plane_id | segment id ax ay az bx by bz\n");
-    w.Text("kind " + s.scene_kind).EndLine();
-    w.Text("counts").Int(static_cast<long long>(s.planes_w.size()));
-    w.Int(static_cast<long long>(s.points_w.size()));
-    w.Int(static_cast<long long>(s.segments_w.size())).EndLine();
-    w.Text("free_space").Vec(s.free_space_w.min()).Vec(s.free_space_w.max()).EndLine();
-    for (std::size_t i = 0; i < s.planes_w.size(); ++i) {
-      w.Text("plane").Int(static_cast<long long>(i)).Vec(s.planes_w[i]).EndLine();
+  if (sequence.ground_truth) {
+    WriteGroundTruth(dir, header, sequence);
+  } else {
+    // A previous sequence's ground truth would be read as this one's.
+    for (const char* name : {"scene.txt", "trajectory.txt", "body_states.txt"}) {
+      fs::remove(Join(dir, name), ec);
     }
-    for (std::size_t i = 0; i < s.points_w.size(); ++i) {
-      w.Text("point").Int(static_cast<long long>(i)).Vec(s.points_w[i]);
-      w.Int(s.point_plane_ids[i]).EndLine();
-    }
-    for (std::size_t i = 0; i < s.segments_w.size(); ++i) {
-      w.Text("segment").Int(static_cast<long long>(i)).Vec(s.segments_w[i].a_w);
-      w.Vec(s.segments_w[i].b_w).EndLine();
-    }
-    w.Commit();
   }
-  {
-    Writer w(Join(dir, "trajectory.txt"));
-    w.Text(header).Text("# T_w_c per frame (TUM): t tx ty tz qx qy qz qw\n");
-    for (std::size_t i = 0; i < n; ++i) {
-      w.Num(sequence.frame_times[i]).Pose(gt.T_w_c[i]).EndLine();
-    }
-    w.Commit();
-  }
-  {
-    Writer w(Join(dir, "body_states.txt"));
-    w.Text(header).Text("# T_w_b and v_w per frame: t tx ty tz qx qy qz qw vx vy vz\n");
-    for (std::size_t i = 0; i < n; ++i) {
-      w.Num(sequence.frame_times[i]).Pose(gt.T_w_b[i]).Vec(gt.v_w[i]).EndLine();
-    }
-    w.Commit();
-  }
-  {
-    Writer w(Join(dir, "imu.txt"));
-    w.Text(header).Text("# t gx gy gz ax ay az bgx bgy bgz bax bay baz (biases: ground truth)\n");
-    for (const sensor::ImuSample& s : sequence.imu) {
-      w.Num(s.t).Vec(s.gyro).Vec(s.accel).Vec(s.gyro_bias).Vec(s.accel_bias).EndLine();
-    }
-    w.Commit();
-  }
-  {
-    Writer w(Join(dir, "points.txt"));
-    w.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
-    for (const sensor::PointObservation& o : sequence.points) {
-      w.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
-    }
-    w.Commit();
-  }
-  {
-    Writer w(Join(dir, "segments.txt"));
-    w.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
-    for (const sensor::SegmentObservation& o : sequence.segments) {
-      w.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
-    }
-    w.Commit();
-  }
+  WriteImu(Join(dir, "imu.txt"), header, sequence);
+  WriteObservations(dir, header, sequence);
 }
 
 sensor::CameraImuSequence ReadCameraImuSequence(const std::string& dir) {
   sensor::CameraImuSequence sequence;
-  sequence.ground_truth.emplace();
+  const std::vector<std::string> truth = {"scene.txt", "trajectory.txt", "body_states.txt"};
+  std::vector<std::string> missing_truth;
+  for (const std::string& name : truth) {
+    if (!fs::exists(Join(dir, name))) missing_truth.push_back(name);
+  }
+  if (missing_truth.size() != 0 && missing_truth.size() != truth.size()) {
+    throw IoError(Join(dir, missing_truth[0]),
+                  "missing: the ground truth is scene.txt, trajectory.txt and body_states.txt "
+                  "together (or none of them)");
+  }
+  if (missing_truth.empty()) sequence.ground_truth.emplace();
   Counts counts;
   ReadRig(Join(dir, "rig.txt"), &sequence, &counts);
-  ReadScene(Join(dir, "scene.txt"), &*sequence.ground_truth);
-  ReadFrames(Join(dir, "trajectory.txt"), Join(dir, "body_states.txt"), &sequence);
-  CheckCount(Join(dir, "trajectory.txt"), sequence.frame_times.size(), counts.frames);
+  // Frame times: frames.txt, or trajectory.txt in folders written before frames.txt existed.
+  const bool have_frames = !sequence.ground_truth || fs::exists(Join(dir, "frames.txt"));
+  const std::string frames = Join(dir, have_frames ? "frames.txt" : "trajectory.txt");
+  if (have_frames) ReadFrameTimes(frames, &sequence.frame_times);
+  if (sequence.ground_truth) {
+    ReadScene(Join(dir, "scene.txt"), &*sequence.ground_truth);
+    ReadGroundTruthFrames(Join(dir, "trajectory.txt"), Join(dir, "body_states.txt"), &sequence);
+  }
+  CheckCount(frames, sequence.frame_times.size(), counts.frames);
   ReadImu(Join(dir, "imu.txt"), &sequence.imu);
   CheckCount(Join(dir, "imu.txt"), sequence.imu.size(), counts.imu);
   ReadObservations(Join(dir, "points.txt"), Join(dir, "segments.txt"), &sequence);

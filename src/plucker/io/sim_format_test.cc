@@ -1,12 +1,12 @@
 #include "plucker/io/sim_format.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "plucker/io/io_test_utils.h"
 #include "plucker/sim/camera_observations.h"
 
 namespace plucker {
@@ -61,16 +61,6 @@ int CountOutliers(const sensor::CameraImuSequence& s) {
 
 class SimFormatTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("plucker_sim_format_" + std::string(info->name()) + "_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    dir_ = (root_ / "sim").string();
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
   // Writes a valid simulation, applies `mutate` to it and expects ReadCameraImuSequence to throw
   // an IoError whose message contains `expected` (the file name and line).
   template <typename Mutate>
@@ -85,8 +75,9 @@ class SimFormatTest : public ::testing::Test {
     }
   }
 
-  fs::path root_;
-  std::string dir_;
+  const testing::ScratchDir scratch_;
+  const fs::path& root_ = scratch_.path();
+  const std::string dir_ = (root_ / "sim").string();
 };
 
 TEST_F(SimFormatTest, RoundTripIsExact) {
@@ -265,8 +256,71 @@ TEST_F(SimFormatTest, WriterRefusesNonFiniteValues) {
   s.ground_truth->scene_kind = "two words";
   EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
   s = SmallSimulation();
-  s.ground_truth.reset();  // the format holds the ground truth
+  s.frame_times.clear();
   EXPECT_THROW(WriteCameraImuSequence(dir_, s), IoError);
+}
+
+// A user's own front end: no scene, no trajectories, no bias columns; ids are any track ids.
+TEST_F(SimFormatTest, RoundTripWithoutGroundTruth) {
+  sensor::CameraImuSequence a = SmallSimulation();
+  a.ground_truth.reset();
+  ASSERT_FALSE(a.points.empty());
+  a.points.back().point_id = 1000000;  // beyond any scene: a track id
+  WriteCameraImuSequence(dir_, a);
+  for (const char* name : {"scene.txt", "trajectory.txt", "body_states.txt"}) {
+    EXPECT_FALSE(fs::exists(fs::path(dir_) / name)) << name;
+  }
+  const sensor::CameraImuSequence b = ReadCameraImuSequence(dir_);
+  EXPECT_FALSE(b.ground_truth.has_value());
+  EXPECT_EQ(b.frame_times, a.frame_times);
+  ASSERT_EQ(b.imu.size(), a.imu.size());
+  for (std::size_t i = 0; i < a.imu.size(); ++i) {
+    EXPECT_EQ(b.imu[i].gyro, a.imu[i].gyro);
+    EXPECT_EQ(b.imu[i].accel, a.imu[i].accel);
+    EXPECT_EQ(b.imu[i].gyro_bias, Eigen::Vector3d::Zero());  // unknown without ground truth
+  }
+  ASSERT_EQ(b.points.size(), a.points.size());
+  EXPECT_EQ(b.points.back().point_id, 1000000);
+  EXPECT_EQ(b.segments.size(), a.segments.size());
+  ExpectReadError(
+      [](const fs::path& d) {
+        WriteCameraImuSequence(d.string(), [] {
+          sensor::CameraImuSequence s = SmallSimulation();
+          s.ground_truth.reset();
+          return s;
+        }());
+        fs::remove(d / "frames.txt");
+      },
+      "frames.txt: cannot open");
+}
+
+TEST_F(SimFormatTest, GroundTruthIsAllThreeFilesOrNone) {
+  ExpectReadError([](const fs::path& d) { fs::remove(d / "trajectory.txt"); },
+                  "trajectory.txt: missing: the ground truth is scene.txt, trajectory.txt");
+  ExpectReadError([](const fs::path& d) { fs::remove(d / "scene.txt"); }, "scene.txt: missing");
+}
+
+// Folders written before frames.txt existed read as before, with trajectory.txt's times.
+TEST_F(SimFormatTest, FolderWithoutFramesTxtTakesTheTrajectoryTimes) {
+  const sensor::CameraImuSequence a = SmallSimulation();
+  WriteCameraImuSequence(dir_, a);
+  fs::remove(fs::path(dir_) / "frames.txt");
+  const sensor::CameraImuSequence b = ReadCameraImuSequence(dir_);
+  EXPECT_EQ(b.frame_times, a.frame_times);
+  ASSERT_TRUE(b.ground_truth.has_value());
+  EXPECT_EQ(b.ground_truth->T_w_c.size(), a.frame_times.size());
+}
+
+TEST_F(SimFormatTest, FramesAndTrajectoryTimesMustAgree) {
+  ExpectReadError([](const fs::path& d) { ReplaceLine(d / "frames.txt", 4, "-1"); },
+                  "frames.txt:4");
+  ExpectReadError([](const fs::path& d) { ReplaceLine(d / "frames.txt", 3, "0.05"); },
+                  "trajectory.txt:3: time differs from frames.txt row 1");
+}
+
+TEST_F(SimFormatTest, ImuBiasColumnsAllRowsOrNone) {
+  ExpectReadError([](const fs::path& d) { ReplaceLine(d / "imu.txt", 5, "0.02 0 0 0 0 0 9.8"); },
+                  "imu.txt:5");
 }
 
 TEST_F(SimFormatTest, SafeToWriteOnlyIntoEmptyOrPreviousOutput) {

@@ -4,22 +4,13 @@
 
 #include <limits>
 
+#include "plucker/sensor/camera_test_utils.h"
+
 namespace plucker {
 namespace sensor {
 namespace {
 
-// The EuRoC V1_01 cam0 calibration (sensor.yaml).
-Camera EurocCam0() {
-  Camera c;
-  c.K = PinholeIntrinsics{458.654, 457.296, 367.215, 248.375};
-  c.distortion.k1 = -0.28340811;
-  c.distortion.k2 = 0.07395907;
-  c.distortion.p1 = 0.00019359;
-  c.distortion.p2 = 1.76187114e-05;
-  c.width = 752;
-  c.height = 480;
-  return c;
-}
+using sensor::testing::EurocCam0;
 
 TEST(Camera, ValidityNamesTheProblem) {
   EXPECT_TRUE(EurocCam0().IsValid());

@@ -179,15 +179,6 @@ Line6d SampleCameraLine(Rng& rng) {
   return LineFromPoints<double>(point(), point());
 }
 
-PinholeIntrinsics SampleIntrinsics(Rng& rng) {
-  PinholeIntrinsics K;
-  K.fx = Uniform(rng, 300, 900);
-  K.fy = K.fx * Uniform(rng, 0.95, 1.05);
-  K.cx = Uniform(rng, 200, 700);
-  K.cy = Uniform(rng, 150, 400);
-  return K;
-}
-
 // Residual of an image segment w.r.t. the pixel line l.
 JacobianCheckStats CheckEndpointLineResidual(const JacobianCheckOptions& o) {
   JacobianCheckStats s;

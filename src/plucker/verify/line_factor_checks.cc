@@ -43,15 +43,6 @@ struct LineFactorSample {
   bool expect_guard = false;
 };
 
-PinholeIntrinsics SampleIntrinsics(Rng& rng) {
-  PinholeIntrinsics K;
-  K.fx = Uniform(rng, 300, 900);
-  K.fy = K.fx * Uniform(rng, 0.95, 1.05);
-  K.cx = Uniform(rng, 200, 700);
-  K.cy = Uniform(rng, 150, 400);
-  return K;
-}
-
 // A parameter block of size n: a pose or an orthonormal line.
 template <typename X>
 Eigen::VectorXd Block(const X& x, int n) {

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <random>
 
+#include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
 
 namespace plucker {
@@ -54,6 +55,16 @@ inline SE3d SamplePose(Rng& rng, int i) {
     default:
       return RandomPose(rng);
   }
+}
+
+// Intrinsics of a VGA-like camera, focal length 300-900 px, aspect within 5 %.
+inline PinholeIntrinsics SampleIntrinsics(Rng& rng) {
+  PinholeIntrinsics K;
+  K.fx = Uniform(rng, 300, 900);
+  K.fy = K.fx * Uniform(rng, 0.95, 1.05);
+  K.cx = Uniform(rng, 200, 700);
+  K.cy = Uniform(rng, 150, 400);
+  return K;
 }
 
 }  // namespace verify

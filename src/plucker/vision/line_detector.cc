@@ -69,33 +69,40 @@ double Length(const Segment2d& s) { return (s.tail<2>() - s.head<2>()).norm(); }
 class SupportTest {
  public:
   SupportTest(const Gradient& g, double angle_deg, double min_gradient)
-      : g_(g), sin_angle_(std::sin(angle_deg * kPi / 180.0)), min_gradient_(min_gradient) {}
+      : g_(g),
+        sin2_angle_(std::pow(std::sin(angle_deg * kPi / 180.0), 2)),
+        min_gradient_(min_gradient) {}
 
   bool Supported(const Eigen::Vector2d& p, const Frame& f) const {
     for (int k : {0, -1, 1}) {
       const Eigen::Vector2d q = p + k * f.n;
       if (!g_.Inside(q.x(), q.y())) continue;
       const Eigen::Vector2d grad = g_.At(q.x(), q.y());
+      // |grad . t| <= sin(angle) |grad|, squared.
       if (grad.lpNorm<1>() >= min_gradient_ &&
-          std::abs(grad.dot(f.t)) <= sin_angle_ * grad.norm()) {
+          grad.dot(f.t) * grad.dot(f.t) <= sin2_angle_ * grad.squaredNorm()) {
         return true;
       }
     }
     return false;
   }
 
-  // Share of the points (one a pixel) along s that are supported.
-  double Share(const Segment2d& s) const {
+  // Is at least `min_share` of the points (one a pixel) along s supported? Stops as soon as the
+  // answer is known.
+  bool HasShare(const Segment2d& s, double min_share) const {
     const Frame f = MakeFrame(s);
     const int n = std::max(1, static_cast<int>(f.length));
+    const int needed = static_cast<int>(std::ceil(min_share * n));
     int supported = 0;
-    for (int i = 0; i < n; ++i) supported += Supported(f.a + (i + 0.5) * f.length / n * f.t, f);
-    return static_cast<double>(supported) / n;
+    for (int i = 0; i < n && supported < needed && supported + (n - i) >= needed; ++i) {
+      supported += Supported(f.a + (i + 0.5) * f.length / n * f.t, f);
+    }
+    return supported >= needed;
   }
 
  private:
   const Gradient& g_;
-  double sin_angle_, min_gradient_;
+  double sin2_angle_, min_gradient_;
 };
 
 // Re-fits s to the sub-pixel maxima of the gradient across it. False when too few maxima.
@@ -205,6 +212,7 @@ cv::Ptr<cv::ximgproc::EdgeDrawing> MakeEdgeDrawing(const LineDetectorOptions& o)
   ed->params.GradientThresholdValue = o.ed_gradient_threshold;
   ed->params.AnchorThresholdValue = o.ed_anchor_threshold;
   ed->params.ScanInterval = o.ed_scan_interval;
+  ed->params.NFAValidation = o.ed_nfa_validation;
   return ed;
 }
 
@@ -224,7 +232,7 @@ std::vector<Segment2d> EdlinesRefined(const cv::Mat& gray, const LineDetectorOpt
   std::vector<Segment2d> kept;
   kept.reserve(segments.size());
   for (Segment2d& s : segments) {
-    if (o.support_filter && support.Share(s) < o.support_min_share) {
+    if (o.support_filter && !support.HasShare(s, o.support_min_share)) {
       ++stats->rejected_support;
       continue;
     }

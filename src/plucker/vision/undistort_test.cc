@@ -9,22 +9,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "plucker/sensor/camera_test_utils.h"
+
 namespace plucker {
 namespace vision {
 namespace {
 
-// The EuRoC V1_01 cam0 calibration (strong barrel distortion: k1 = -0.28).
-sensor::Camera EurocCam0() {
-  sensor::Camera c;
-  c.K = PinholeIntrinsics{458.654, 457.296, 367.215, 248.375};
-  c.distortion.k1 = -0.28340811;
-  c.distortion.k2 = 0.07395907;
-  c.distortion.p1 = 0.00019359;
-  c.distortion.p2 = 1.76187114e-05;
-  c.width = 752;
-  c.height = 480;
-  return c;
-}
+using sensor::testing::EurocCam0;
 
 // Draws the image of the 3D segment a-b (camera frame) through the camera's distorted model: a
 // dense anti-aliased polyline of projected points, 4 px wide.
