@@ -206,5 +206,49 @@ else
   echo "skip lines-york-*: no York Urban extract at $YORK"
 fi
 
+# Line tracks: bad input on generated images, then the first KITTI frames when the shared data
+# is there (the whole clip: README).
+mkdir -p "$T/blank"
+for n in 0 1 2; do { printf 'P5\n200 100\n255\n'; head -c 20000 /dev/zero | tr '\0' '\100'; } \
+  > "$T/blank/$n.pgm"; done
+printf 'P0: 100 0 100 0 0 100 50 0 0 0 1 0\n' > "$T/blank_calib.txt"
+expect lines-track-no-lines 0 "0.pgm: no line segments.*2.pgm: no line segments" -- \
+  bash -c "'$PLUCKER' lines track --images '$T/blank' --calib '$T/blank_calib.txt' --out '$T/bt' --quiet 2>&1 | tr '\n' ' '"
+expect lines-track-no-lines-files 0 "^0$" -- bash -c "grep -vc '^#' '$T/bt/segments.txt' || true"
+expect lines-match-no-lines 0 "no line matches" -- \
+  "$PLUCKER" lines match --image1 "$T/blank/0.pgm" --image2 "$T/blank/1.pgm" --calib "$T/blank_calib.txt"
+expect lines-track-needs-camera nonzero "exactly one of --calib" -- \
+  "$PLUCKER" lines track --images "$T/blank"
+expect lines-track-missing-calib nonzero "no_calib.txt" -- \
+  "$PLUCKER" lines track --images "$T/blank" --calib "$T/no_calib.txt"
+expect lines-track-gating-needs-gt nonzero "--gating gt needs --gt" -- \
+  "$PLUCKER" lines track --images "$T/blank" --calib "$T/blank_calib.txt" --gating gt
+expect lines-track-bad-reduce nonzero "--reduce must be 1, 2, 4 or 8" -- \
+  "$PLUCKER" lines track --images "$T/blank" --calib "$T/blank_calib.txt" --reduce 3
+printf '0 0 1 2 3 4\n1 0 1 2 3\n' > "$T/bad_segments.txt"
+printf '1 0 0 0 0 1 0 0 0 0 1 0\n' > "$T/one_pose.txt"
+expect eval-tracks-bad-file nonzero "bad_segments.txt:2: expected 6 fields" -- \
+  "$PLUCKER" eval tracks --segments "$T/bad_segments.txt" --calib "$T/blank_calib.txt" --gt "$T/one_pose.txt"
+expect eval-tracks-empty nonzero "segments.txt: no segment observations" -- \
+  "$PLUCKER" eval tracks --segments "$T/bt/segments.txt" --calib "$T/blank_calib.txt" --gt "$T/one_pose.txt"
+KITTI="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/kitti-mono-clip"
+if [ -f "$KITTI/poses.txt" ]; then
+  expect lines-track-kitti 0 "precision (9[0-9]|100)\.[0-9] %" -- \
+    "$PLUCKER" lines track --images "$KITTI/image_0" --calib "$KITTI/calib.txt" \
+    --gt "$KITTI/poses.txt" --max-frames 4 --out "$T/kt" --quiet
+  expect lines-track-kitti-files 0 "^[0-9]+ [0-9]+ [0-9.-]+ " -- tail -1 "$T/kt/segments.txt"
+  expect eval-tracks-kitti 0 "\"precision\": 0\.9" -- \
+    "$PLUCKER" eval tracks --segments "$T/kt/segments.txt" --calib "$KITTI/calib.txt" \
+    --gt "$KITTI/poses.txt" --json
+  expect eval-tracks-too-few-poses nonzero "frame 1 but only 1 ground-truth poses" -- \
+    "$PLUCKER" eval tracks --segments "$T/kt/segments.txt" --calib "$KITTI/calib.txt" \
+    --gt "$T/one_pose.txt"
+  expect lines-match-kitti 0 "[0-9]+ matches" -- \
+    "$PLUCKER" lines match --image1 "$KITTI/image_0/000000.png" --image2 "$KITTI/image_0/000001.png" \
+    --calib "$KITTI/calib.txt" --draw "$T/km.png"
+else
+  echo "skip lines-track-kitti-*: no KITTI clip at $KITTI"
+fi
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -469,6 +469,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
 
   AddEvalImu(eval_cmd, exit_code);
   RegisterEvalLines(*eval_cmd, exit_code);
+  RegisterEvalTracks(*eval_cmd, exit_code);
 }
 
 }  // namespace app

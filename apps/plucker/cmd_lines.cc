@@ -196,6 +196,7 @@ void RegisterLines(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   detect->add_flag("--quiet", a->quiet, "No progress lines (warnings and errors still print)");
   detect->callback([a, exit_code] { *exit_code = RunDetect(*a); });
+  AddLinesTrack(lines, exit_code);  // lines match, lines track (cmd_lines_track.cc)
 }
 
 }  // namespace app

@@ -19,6 +19,8 @@ void RegisterConfig(CLI::App& app, int* exit_code);          // cmd_config.cc
 void RegisterConvert(CLI::App& app, int* exit_code);         // cmd_convert.cc
 void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc
 void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.cc (eval lines)
+void AddLinesTrack(CLI::App* lines, int* exit_code);      // cmd_lines_track.cc (lines match|track)
+void RegisterEvalTracks(CLI::App& eval, int* exit_code);  // cmd_lines_track.cc (eval tracks)
 
 }  // namespace app
 }  // namespace plucker

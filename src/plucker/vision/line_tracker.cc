@@ -1,0 +1,214 @@
+#include "plucker/vision/line_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace plucker {
+namespace vision {
+namespace {
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+}  // namespace
+
+LineTracker::LineTracker(const LineTrackerOptions& options) : options_(options) {
+  if (options_.max_lost_frames < 0) {
+    throw std::invalid_argument("LineTracker: max_lost_frames must be >= 0");
+  }
+  const LineMatcherOptions& m = options_.match;
+  if (m.max_hamming < 0 || !(m.ratio > 0 && m.ratio <= 1) || !(m.max_angle_deg > 0) ||
+      !(m.max_length_ratio >= 1) || !(m.min_epipolar_overlap >= 0 && m.min_epipolar_overlap <= 1)) {
+    throw std::invalid_argument("LineTracker: invalid matcher options");
+  }
+}
+
+LineFeatures LineTracker::Features(const std::vector<const TrackState*>& tracks) {
+  LineFeatures f;
+  for (const TrackState* t : tracks) {
+    f.segments.push_back(t->segment);
+    f.source_index.push_back(t->id);
+    f.descriptors.push_back(t->descriptor);
+  }
+  return f;
+}
+
+LinePredictions LineTracker::Predict(const std::vector<const TrackState*>& tracks,
+                                     const cv::Mat& gray, int* predicted) const {
+  LinePredictions out(tracks.size());
+  const int n = options_.flow_samples;
+  if (n <= 0 || tracks.empty() || previous_.empty()) return out;
+  std::vector<cv::Point2f> from, to;
+  for (const TrackState* t : tracks) {
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d p =
+          t->segment.head<2>() + (k + 0.5) / n * (t->segment.tail<2>() - t->segment.head<2>());
+      from.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    }
+  }
+  std::vector<unsigned char> status;
+  std::vector<float> error;
+  const cv::Size window(options_.flow_window_px, options_.flow_window_px);
+  cv::calcOpticalFlowPyrLK(previous_, gray, from, to, status, error, window, options_.flow_levels);
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    for (int k = 0; k < n; ++k) {
+      const std::size_t j = i * n + k;
+      if (status[j] && std::isfinite(to[j].x) && std::isfinite(to[j].y)) {
+        out[i].emplace_back(to[j].x, to[j].y);
+      }
+    }
+    // Fewer than half the samples followed: no prediction (the gate is skipped).
+    if (2 * static_cast<int>(out[i].size()) < n) out[i].clear();
+    if (!out[i].empty()) ++*predicted;
+  }
+  return out;
+}
+
+LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                                    const std::optional<Eigen::Matrix3d>& F_cur_prev) {
+  if (gray.empty() || gray.type() != CV_8UC1) {
+    throw std::invalid_argument("LineTracker: the image must be non-empty 8-bit grayscale");
+  }
+  if (frame_ > 0 && gray.size() != size_) {
+    throw std::invalid_argument("LineTracker: image of " + std::to_string(gray.cols) + "x" +
+                                std::to_string(gray.rows) + " after " +
+                                std::to_string(size_.width) + "x" + std::to_string(size_.height));
+  }
+  size_ = gray.size();
+  LineTrackerFrame out;
+  out.frame = frame_++;
+  LineTrackerStats& st = out.stats;
+  st.epipolar_gate = F_cur_prev.has_value();
+  const LineFeatures current = DescribeLines(gray, segments, options_.describe, &st.description);
+  const bool use_flow = options_.flow_samples > 0;
+  std::vector<int> track_of(current.size(), -1);  // index into tracks_ for each segment
+
+  // 2.-3. Every live track (seen in the previous frame, or lost for up to max_lost_frames frames
+  // and coasting on its flow prediction) against the new segments.
+  const std::vector<const TrackState*> all = [&] {
+    std::vector<const TrackState*> v;
+    for (const TrackState& t : tracks_) v.push_back(&t);
+    return v;
+  }();
+  LinePredictions all_predictions = Predict(all, gray, &st.predicted);
+  std::vector<const TrackState*> candidates;
+  std::vector<int> candidate_index;
+  LinePredictions predictions;
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    // A lost track has no last observation in the previous frame: without a flow prediction no
+    // gate would tie it to its place, so it is not matched (and ends below).
+    if (tracks_[k].last_frame != out.frame - 1 && all_predictions[k].empty()) continue;
+    candidates.push_back(&tracks_[k]);
+    candidate_index.push_back(static_cast<int>(k));
+    predictions.push_back(all_predictions[k]);
+  }
+  const LineMatchResult match = MatchLines(Features(candidates), current, options_.match,
+                                           F_cur_prev, use_flow ? &predictions : nullptr);
+  st.match = match.stats;
+  for (const LineMatch& m : match.matches) {
+    const int k = candidate_index[m.a];
+    track_of[m.b] = k;
+    ++(tracks_[k].last_frame == out.frame - 1 ? st.continued : st.reassociated);
+  }
+
+  // 4. Update the tracks, start new ones, drop the old ones.
+  std::vector<bool> seen(tracks_.size(), false);
+  for (int j = 0; j < current.size(); ++j) {
+    if (track_of[j] >= 0) seen[track_of[j]] = true;
+  }
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    if (seen[k]) continue;
+    if (tracks_[k].last_frame == out.frame - 1) ++st.lost;
+    // Coast on the flow prediction (the segment through the first and last followed points),
+    // or end now without one.
+    if (all_predictions[k].size() >= 2) {
+      const Eigen::Vector2d a = all_predictions[k].front(), b = all_predictions[k].back();
+      tracks_[k].segment = Segment2d(a.x(), a.y(), b.x(), b.y());
+    } else {
+      tracks_[k].last_frame = std::numeric_limits<int>::min() / 2;
+    }
+  }
+  for (int j = 0; j < current.size(); ++j) {
+    if (track_of[j] < 0) {
+      TrackState t;
+      t.id = next_id_++;
+      tracks_.push_back(t);
+      track_of[j] = static_cast<int>(tracks_.size()) - 1;
+      ++st.started;
+    }
+    TrackState& t = tracks_[track_of[j]];
+    t.last_frame = out.frame;
+    t.segment = current.segments[j];
+    t.descriptor = current.descriptors.row(j).clone();
+    sensor::SegmentObservation o;
+    o.frame = out.frame;
+    o.line_id = t.id;
+    o.s_px = current.segments[j].head<2>();
+    o.e_px = current.segments[j].tail<2>();
+    out.observations.push_back(o);
+  }
+  const std::size_t before = tracks_.size();
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [&](const TrackState& t) {
+                                 return t.last_frame < out.frame - options_.max_lost_frames;
+                               }),
+                tracks_.end());
+  st.ended = static_cast<int>(before - tracks_.size());
+  previous_ = gray.clone();
+  return out;
+}
+
+std::optional<Eigen::Matrix3d> FundamentalFromPointTracks(
+    const std::vector<sensor::PointObservation>& previous,
+    const std::vector<sensor::PointObservation>& current, const std::optional<PinholeIntrinsics>& K,
+    double threshold_px, int min_points) {
+  std::map<int, Eigen::Vector2d> prev_by_id;
+  for (const auto& o : previous) prev_by_id[o.point_id] = o.uv;
+  std::vector<cv::Point2d> p0, p1;
+  for (const auto& o : current) {
+    const auto it = prev_by_id.find(o.point_id);
+    if (it == prev_by_id.end() || o.point_id < 0) continue;
+    p0.emplace_back(it->second.x(), it->second.y());
+    p1.emplace_back(o.uv.x(), o.uv.y());
+  }
+  if (static_cast<int>(p0.size()) < std::max(min_points, 8)) return std::nullopt;
+  cv::Mat model;
+  if (K) {
+    const cv::Matx33d Kcv(K->fx, 0, K->cx, 0, K->fy, K->cy, 0, 0, 1);
+    model = cv::findEssentialMat(p0, p1, Kcv, cv::RANSAC, 0.999, threshold_px);
+  } else {
+    model = cv::findFundamentalMat(p0, p1, cv::FM_RANSAC, threshold_px, 0.999);
+  }
+  if (model.rows != 3 || model.cols != 3) return std::nullopt;  // none, or several solutions
+  Eigen::Matrix3d M;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) M(r, c) = model.at<double>(r, c);
+  }
+  if (K) {
+    const Eigen::Matrix3d K_inv = K->K().inverse();
+    M = K_inv.transpose() * M * K_inv;
+  }
+  if (!M.allFinite() || !(M.norm() > 0)) return std::nullopt;
+  return M / M.norm();
+}
+
+Eigen::Matrix3d FundamentalFromPoses(const PinholeIntrinsics& K, const SE3d& T_w_a,
+                                     const SE3d& T_w_b) {
+  const SE3d T_b_a = T_w_b.Inverse() * T_w_a;
+  const Eigen::Matrix3d E = Skew(T_b_a.translation()) * T_b_a.rotation().toRotationMatrix();
+  const Eigen::Matrix3d K_inv = K.K().inverse();
+  return K_inv.transpose() * E * K_inv;
+}
+
+}  // namespace vision
+}  // namespace plucker

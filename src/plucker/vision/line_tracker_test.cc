@@ -1,0 +1,152 @@
+#include "plucker/vision/line_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "plucker/eval/line_tracks.h"
+#include "plucker/io/camera_calibration.h"
+#include "plucker/io/image_folder.h"
+#include "plucker/io/trajectory_io.h"
+#include "plucker/vision/point_tracker.h"
+
+namespace plucker {
+namespace vision {
+namespace {
+
+namespace fs = std::filesystem;
+
+cv::Mat Scene(int width, int height, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> g(0, 255), noise(-12, 12);
+  cv::Mat image(height, width, CV_8UC1);
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c)
+      image.at<uchar>(r, c) = cv::saturate_cast<uchar>(128 + noise(rng));
+  }
+  std::uniform_real_distribution<double> x(0.1 * width, 0.9 * width), y(0.1 * height, 0.9 * height);
+  std::uniform_real_distribution<double> size(25, 60);
+  for (int i = 0; i < 12; ++i) {
+    const double cx = x(rng), cy = y(rng), w = size(rng), h = size(rng);
+    cv::rectangle(image, cv::Rect(cvRound(cx - w / 2), cvRound(cy - h / 2), cvRound(w), cvRound(h)),
+                  cv::Scalar(g(rng)), -1);
+  }
+  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.7);
+  return image;
+}
+
+cv::Mat Shifted(const cv::Mat& image, double dx, double dy) {
+  const cv::Matx23d A(1, 0, dx, 0, 1, dy);
+  cv::Mat out;
+  cv::warpAffine(image, out, A, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  return out;
+}
+
+double LineDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& s, const Eigen::Vector2d& e) {
+  const Eigen::Vector2d d = (e - s).normalized();
+  return std::abs(d.x() * (p.y() - s.y()) - d.y() * (p.x() - s.x()));
+}
+
+// A shifting image: tracks keep their ids and stay on their edge; a frame without segments is
+// skipped and its tracks are re-associated in the next frame.
+TEST(LineTracker, StableIdsAndReassociationAfterAMissedFrame) {
+  const cv::Mat base = Scene(360, 260, 9);
+  LineTracker tracker;
+  std::map<int, sensor::SegmentObservation> first;
+  const auto f0 = tracker.Track(base, DetectLineSegments(base).segments);
+  for (const auto& o : f0.observations) first[o.line_id] = o;
+  ASSERT_GT(first.size(), 20u);
+  EXPECT_EQ(f0.stats.started, static_cast<int>(first.size()));
+  int checked = 0, on_edge = 0, reassociated = 0;
+  for (int k = 1; k <= 5; ++k) {
+    const Eigen::Vector2d shift(2.5 * k, 1.0 * k);
+    const cv::Mat image = Shifted(base, shift.x(), shift.y());
+    // Frame 3 has no segments (a detector failure): every track is lost for one frame.
+    const std::vector<Segment2d> segments =
+        k == 3 ? std::vector<Segment2d>{} : DetectLineSegments(image).segments;
+    const LineTrackerFrame f = tracker.Track(image, segments);
+    EXPECT_EQ(f.frame, k);
+    if (k == 3) {
+      EXPECT_TRUE(f.observations.empty());
+      EXPECT_GT(f.stats.lost, 10);
+      continue;
+    }
+    if (k == 4) {
+      EXPECT_EQ(f.stats.continued, 0);
+      EXPECT_GT(f.stats.reassociated, 10);
+      reassociated = f.stats.reassociated;
+    } else {
+      EXPECT_GT(f.stats.continued, 10);
+    }
+    for (const auto& o : f.observations) {
+      EXPECT_EQ(o.frame, k);
+      const auto it = first.find(o.line_id);
+      if (it == first.end()) continue;
+      ++checked;
+      on_edge += LineDistance(it->second.s_px + shift, o.s_px, o.e_px) < 1.5 &&
+                 LineDistance(it->second.e_px + shift, o.s_px, o.e_px) < 1.5;
+    }
+  }
+  EXPECT_GT(reassociated, 10);
+  EXPECT_GT(checked, 60);
+  EXPECT_GE(on_edge, 0.95 * checked) << on_edge << " of " << checked;
+}
+
+TEST(LineTracker, BadInput) {
+  LineTracker tracker;
+  EXPECT_THROW(tracker.Track(cv::Mat(), {}), std::invalid_argument);
+  EXPECT_THROW(tracker.Track(cv::Mat(20, 20, CV_8UC3), {}), std::invalid_argument);
+  const cv::Mat blank(40, 50, CV_8UC1, cv::Scalar(9));
+  EXPECT_TRUE(tracker.Track(blank, {}).observations.empty());  // no lines: fine
+  EXPECT_TRUE(tracker.Track(blank, {}).observations.empty());
+  EXPECT_THROW(tracker.Track(cv::Mat(41, 50, CV_8UC1, cv::Scalar(9)), {}), std::invalid_argument);
+  LineTrackerOptions bad;
+  bad.max_lost_frames = -1;
+  EXPECT_THROW(LineTracker{bad}, std::invalid_argument);
+}
+
+// The first frames of the real KITTI clip: tracks of 3+ views against the ground-truth poses
+// (the whole clip: `plucker lines track`, README).
+TEST(LineTracker, RealKittiClipFirstFrames) {
+  const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
+  if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
+  const io::ImageFolder folder = io::OpenImageFolder((data / "image_0").string());
+  const PinholeIntrinsics K =
+      io::ReadKittiCalibration((data / "calib.txt").string(), folder.size.width, folder.size.height)
+          .camera.K;
+  const io::Trajectory gt = io::ReadTrajectory((data / "poses.txt").string());
+  const int frames = 6;
+  PointTracker points(PointTrackerOptions{}, K);
+  LineTracker lines;
+  std::vector<sensor::SegmentObservation> obs;
+  std::vector<sensor::PointObservation> previous;
+  int gated = 0;
+  for (int f = 0; f < frames; ++f) {
+    const cv::Mat gray = io::ReadGrayImage(folder.files[f]);
+    const auto p = points.Track(gray);
+    const auto F = f > 0 ? FundamentalFromPointTracks(previous, p.observations, K) : std::nullopt;
+    gated += F.has_value();
+    const auto l = lines.Track(gray, DetectLineSegments(gray).segments, F);
+    obs.insert(obs.end(), l.observations.begin(), l.observations.end());
+    previous = p.observations;
+  }
+  EXPECT_EQ(gated, frames - 1);
+  const eval::LineTrackQuality q = eval::EvaluateLineTracks(K, gt.poses, obs);
+  std::printf(
+      "KITTI clip, %d frames: %d segments, %d tracks, %d of 3+ views: correct %d, wrong %d, "
+      "unconstrained %d, precision %.3f\n",
+      frames, q.observations, q.tracks, q.evaluated, q.correct, q.wrong, q.unconstrained,
+      q.precision());
+  EXPECT_GT(q.correct + q.wrong, 100);
+  EXPECT_GE(q.precision(), 0.9);
+}
+
+}  // namespace
+}  // namespace vision
+}  // namespace plucker
