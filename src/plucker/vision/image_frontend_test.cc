@@ -37,7 +37,9 @@ TEST(ImageFrontend, TracksPointsAndLinesOnTheKittiClip) {
     EXPECT_GT(f.points.size(), 150u) << "frame " << i;
     EXPECT_GT(f.segments.size(), 40u) << "frame " << i;
     for (const auto& s : f.segments) {
-      EXPECT_GE((s.e_px - s.s_px).norm(), ImageFrontendOptions().min_segment_px);
+      // Detected at min_segment_px or longer, then clipped to the margin the descriptor needs
+      // and kept when still min_length_px long (line_matcher.h).
+      EXPECT_GE((s.e_px - s.s_px).norm(), ImageFrontendOptions().lines.describe.min_length_px);
       continued_lines += seen_lines.count(s.line_id) > 0;
     }
     for (const auto& p : f.points) continued_points += seen_points.count(p.point_id) > 0;
