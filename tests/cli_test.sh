@@ -101,6 +101,21 @@ expect eval-imu-not-euroc nonzero "not a EuRoC folder" -- "$PLUCKER" eval imu --
 
 # Camera simulation and the demo (camera part only, small).
 expect sim-camera 0 "" -- "$PLUCKER" sim camera --out "$T/cam" --scene room --frames 10
+# Monocular point + line odometry on the camera simulation, and its bad-input paths.
+expect vo 0 "10 frames \(initialised on frames" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo.txt" --json "$T/vo.json"
+expect vo-rows 0 "^10$" -- bash -c "wc -l < '$T/vo.txt'"
+expect vo-json 0 '"keep_marginalized_lines": true' -- cat "$T/vo.json"
+expect vo-eval 0 "ATE translation" -- \
+  "$PLUCKER" eval ate --gt "$T/cam/trajectory.txt" --est "$T/vo.txt" --align sim3
+expect vo-no-folder nonzero "plucker vo: error: .*nothing" -- \
+  "$PLUCKER" vo --features "$T/nothing" --out "$T/vo_x.txt"
+expect vo-too-few-tracks nonzero "cannot initialise .*too few common point tracks" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --point-stride 100000
+cp -r "$T/cam" "$T/cam_bad"
+sed -i '5s/.*/0 3 12.5 nan/' "$T/cam_bad/points.txt"
+expect vo-bad-points nonzero "points.txt:5" -- \
+  "$PLUCKER" vo --features "$T/cam_bad" --out "$T/vo_x.txt"
 expect demo-camera 0 "after" -- "$PLUCKER" demo --no-lidar --frames 8 --out "$T/demo"
 expect demo-files 0 "" -- test -s "$T/demo/camera/poses_ba.txt"
 

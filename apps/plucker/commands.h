@@ -21,6 +21,7 @@ void RegisterLines(CLI::App& app, int* exit_code);           // cmd_lines.cc
 void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.cc (eval lines)
 void AddLinesTrack(CLI::App* lines, int* exit_code);      // cmd_lines_track.cc (lines match|track)
 void RegisterEvalTracks(CLI::App& eval, int* exit_code);  // cmd_lines_track.cc (eval tracks)
+void RegisterVo(CLI::App& app, int* exit_code);           // cmd_vo.cc
 
 }  // namespace app
 }  // namespace plucker

@@ -1,0 +1,797 @@
+#include "plucker/window/sliding_window_estimator.h"
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/covariance.h>
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <set>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "plucker/factors/line_manifold.h"
+#include "plucker/factors/point_reprojection_factor.h"
+#include "plucker/factors/pose_manifold.h"
+#include "plucker/geometry/orthonormal_line.h"
+
+namespace plucker {
+namespace window {
+namespace {
+
+// r = S * Minus(T_w_c, prior) on the PoseManifold tangent.
+struct PosePriorResidual {
+  SE3d prior;
+  Eigen::Matrix<double, 6, 6> S;
+  template <typename T>
+  bool operator()(const T* x, T* residual) const {
+    // The rotation difference in the hemisphere of the prior's quaternion (q and -q are one
+    // rotation; the prior may come with either sign).
+    const SE3<T> X = SE3<T>::FromParameters(x);
+    Eigen::Quaternion<T> dq = prior.rotation().cast<T>().conjugate() * X.rotation();
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    Eigen::Matrix<T, 6, 1> d;
+    d.template head<3>() = LogUnitQuaternion<T>(dq);
+    d.template tail<3>() = X.translation() - prior.translation().cast<T>();
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r = S.cast<T>() * d;
+    return true;
+  }
+};
+
+// First-estimate Jacobians: the residual at the current values, the Jacobians with the blocks that
+// have a first estimate replaced by it (falls back to the current values if that fails).
+class FirstEstimateCost final : public ceres::CostFunction {
+ public:
+  FirstEstimateCost(ceres::CostFunction* inner, std::vector<const double*> first_estimates)
+      : inner_(inner), fe_(std::move(first_estimates)) {
+    set_num_residuals(inner->num_residuals());
+    *mutable_parameter_block_sizes() = inner->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    if (jacobians == nullptr) return inner_->Evaluate(parameters, residuals, nullptr);
+    if (!inner_->Evaluate(parameters, residuals, nullptr)) return false;
+    std::vector<const double*> at_fe(parameters, parameters + fe_.size());
+    for (std::size_t i = 0; i < fe_.size(); ++i)
+      if (fe_[i] != nullptr) at_fe[i] = fe_[i];
+    std::vector<double> scratch(num_residuals());
+    if (inner_->Evaluate(at_fe.data(), scratch.data(), jacobians)) return true;
+    return inner_->Evaluate(parameters, scratch.data(), jacobians);
+  }
+
+ private:
+  std::unique_ptr<ceres::CostFunction> inner_;
+  std::vector<const double*> fe_;
+};
+
+enum class BlockKind { kPose, kPoint, kLine };
+
+struct Frame {
+  int index = 0;
+  FrameInput input;
+  double pose[7];
+  std::vector<char> point_outlier;    // per input.points
+  std::vector<char> segment_outlier;  // per input.segments
+  SE3d T_w_c() const { return SE3d::FromParameters(pose); }
+};
+
+struct PointLandmark {
+  double p[3];
+};
+
+struct LineLandmark {
+  LineAnchor anchor;
+  double block[6];
+};
+
+// One residual of the window: its cost, whether the robust loss applies, and its blocks.
+struct ResidualSpec {
+  std::unique_ptr<ceres::CostFunction> cost;
+  bool robust = true;
+  std::vector<double*> blocks;
+  // Where it came from (for culling): frame, observation index, point (true) or segment.
+  Frame* frame = nullptr;
+  int observation = -1;
+  bool is_point = true;
+};
+
+bool ValidSegment(const sensor::SegmentObservation& s) {
+  return s.line_id >= 0 && s.s_px.allFinite() && s.e_px.allFinite() &&
+         (s.e_px - s.s_px).norm() >= 1.0;
+}
+
+bool ValidPoint(const sensor::PointObservation& p) { return p.point_id >= 0 && p.uv.allFinite(); }
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+struct SlidingWindowEstimator::Impl {
+  PinholeIntrinsics K;
+  SlidingWindowOptions opt;
+  std::deque<std::unique_ptr<Frame>> keyframes;  // oldest first
+  std::map<int, std::unique_ptr<PointLandmark>> points;
+  std::map<int, std::unique_ptr<LineLandmark>> lines;
+  std::unique_ptr<MarginalizationPrior> prior;
+  std::vector<double*> prior_blocks;                // the prior's kept blocks (real storage)
+  std::map<const double*, std::vector<double>> fe;  // their first estimates
+  std::unique_ptr<ceres::LossFunction> loss;
+  PoseManifold pose_manifold;
+  LineManifold line_manifold;
+  SE3d last_T_w_c, prev_T_w_c;
+  int frames_seen = 0;
+  int next_index = 0;
+
+  bool InPrior(const double* block) const {
+    return std::find(prior_blocks.begin(), prior_blocks.end(), block) != prior_blocks.end();
+  }
+
+  Eigen::Matrix2d PointSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.point_sigma_px; }
+  Eigen::Matrix2d LineSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.line_sigma_px; }
+
+  std::unique_ptr<Frame> MakeFrame(const FrameInput& input, const SE3d& T_w_c) {
+    auto f = std::make_unique<Frame>();
+    f->index = next_index++;
+    f->input.time = input.time;
+    f->input.T_w_c_prior = input.T_w_c_prior;
+    f->input.prior_sqrt_information = input.prior_sqrt_information;
+    for (const auto& p : input.points)
+      if (ValidPoint(p)) f->input.points.push_back(p);
+    if (opt.use_lines) {
+      for (const auto& s : input.segments)
+        if (ValidSegment(s)) f->input.segments.push_back(s);
+    }
+    f->point_outlier.assign(f->input.points.size(), 0);
+    f->segment_outlier.assign(f->input.segments.size(), 0);
+    T_w_c.ToParameters(f->pose);
+    return f;
+  }
+
+  // --- residuals -------------------------------------------------------------------------------
+
+  void AppendFrameResiduals(Frame* f, bool with_points, bool with_lines,
+                            std::vector<ResidualSpec>* out) const {
+    if (with_points) {
+      for (std::size_t i = 0; i < f->input.points.size(); ++i) {
+        if (f->point_outlier[i]) continue;
+        const auto it = points.find(f->input.points[i].point_id);
+        if (it == points.end()) continue;
+        ResidualSpec r;
+        r.cost.reset(PointReprojectionFactor::Create(K, f->input.points[i].uv, PointSqrtInfo()));
+        r.blocks = {f->pose, it->second->p};
+        r.frame = f;
+        r.observation = static_cast<int>(i);
+        out->push_back(std::move(r));
+      }
+    }
+    if (with_lines) {
+      for (std::size_t i = 0; i < f->input.segments.size(); ++i) {
+        if (f->segment_outlier[i]) continue;
+        const auto it = lines.find(f->input.segments[i].line_id);
+        if (it == lines.end()) continue;
+        const auto& s = f->input.segments[i];
+        ResidualSpec r;
+        r.cost.reset(
+            AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), it->second->anchor));
+        r.blocks = {f->pose, it->second->block};
+        r.frame = f;
+        r.observation = static_cast<int>(i);
+        r.is_point = false;
+        out->push_back(std::move(r));
+      }
+    }
+    if (f->input.T_w_c_prior) {
+      ResidualSpec r;
+      r.cost.reset(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
+          new PosePriorResidual{*f->input.T_w_c_prior, f->input.prior_sqrt_information}));
+      r.robust = false;
+      r.blocks = {f->pose};
+      out->push_back(std::move(r));
+    }
+  }
+
+  BlockKind KindOf(const double* block) const {
+    for (const auto& f : keyframes)
+      if (f->pose == block) return BlockKind::kPose;
+    for (const auto& [id, l] : lines)
+      if (l->block == block) return BlockKind::kLine;
+    return BlockKind::kPoint;
+  }
+
+  const ceres::Manifold* ManifoldOf(BlockKind kind) const {
+    if (kind == BlockKind::kPose) return &pose_manifold;
+    if (kind == BlockKind::kLine) return &line_manifold;
+    return nullptr;
+  }
+
+  static int AmbientSize(BlockKind kind) {
+    return kind == BlockKind::kPose ? 7 : (kind == BlockKind::kLine ? 6 : 3);
+  }
+
+  // Marks the residuals that cannot be evaluated or exceed the outlier threshold; returns the
+  // number marked. Pose priors are never marked.
+  int CullOutliers(const std::vector<ResidualSpec>& residuals) const {
+    int culled = 0;
+    for (const ResidualSpec& r : residuals) {
+      if (r.frame == nullptr) continue;
+      double res[2];
+      std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
+      const bool ok = r.cost->Evaluate(params.data(), res, nullptr) && std::isfinite(res[0]) &&
+                      std::isfinite(res[1]);
+      if (ok && std::hypot(res[0], res[1]) <= opt.outlier_sigmas) continue;
+      (r.is_point ? r.frame->point_outlier : r.frame->segment_outlier)[r.observation] = 1;
+      ++culled;
+    }
+    return culled;
+  }
+
+  // --- tracking --------------------------------------------------------------------------------
+
+  struct TrackResult {
+    bool ok = false;
+    SE3d T_w_c;
+    int points = 0, lines = 0, iterations = 0;
+  };
+
+  TrackResult Track(Frame* f, const SE3d& guess) const {
+    TrackResult result;
+    result.T_w_c = guess;
+    guess.ToParameters(f->pose);
+    for (int round = 0; round < 2; ++round) {
+      std::vector<ResidualSpec> residuals;
+      AppendFrameResiduals(f, true, opt.use_lines, &residuals);
+      residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
+                                     [](const ResidualSpec& r) { return r.frame == nullptr; }),
+                      residuals.end());
+      // Drop what cannot be evaluated at the guess (behind the camera).
+      if (round == 0) {
+        for (const ResidualSpec& r : residuals) {
+          double res[2];
+          std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
+          if (!r.cost->Evaluate(params.data(), res, nullptr)) {
+            (r.is_point ? r.frame->point_outlier : r.frame->segment_outlier)[r.observation] = 1;
+          }
+        }
+        residuals.clear();
+        AppendFrameResiduals(f, true, opt.use_lines, &residuals);
+        residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
+                                       [](const ResidualSpec& r) { return r.frame == nullptr; }),
+                        residuals.end());
+      }
+      if (residuals.size() < 6) return result;
+      ceres::Problem::Options po;
+      po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(po);
+      for (ResidualSpec& r : residuals) {
+        problem.AddResidualBlock(r.cost.release(), loss.get(), r.blocks);
+        problem.SetParameterBlockConstant(r.blocks[1]);
+      }
+      problem.SetManifold(f->pose, const_cast<PoseManifold*>(&pose_manifold));
+      ceres::Solver::Options so;
+      so.linear_solver_type = ceres::DENSE_QR;
+      so.max_num_iterations = opt.max_tracking_iterations;
+      so.num_threads = 1;
+      so.logging_type = ceres::SILENT;
+      ceres::Solver::Summary summary;
+      ceres::Solve(so, &problem, &summary);
+      result.iterations += static_cast<int>(summary.iterations.size()) - 1;
+      std::vector<ResidualSpec> check;
+      AppendFrameResiduals(f, true, opt.use_lines, &check);
+      if (CullOutliers(check) == 0) break;
+    }
+    result.points = result.lines = 0;
+    for (std::size_t i = 0; i < f->input.points.size(); ++i)
+      if (!f->point_outlier[i] && points.count(f->input.points[i].point_id)) ++result.points;
+    for (std::size_t i = 0; i < f->input.segments.size(); ++i)
+      if (!f->segment_outlier[i] && lines.count(f->input.segments[i].line_id)) ++result.lines;
+    result.T_w_c = f->T_w_c();
+    result.ok = result.points + result.lines >= 6 && f->T_w_c().translation().allFinite();
+    return result;
+  }
+
+  // --- keyframe policy -------------------------------------------------------------------------
+
+  double Parallax(const Frame& f) const {
+    const Frame& kf = *keyframes.back();
+    std::unordered_map<int, Eigen::Vector2d> kf_uv;
+    for (const auto& p : kf.input.points) kf_uv[p.point_id] = p.uv;
+    const Eigen::Matrix3d R_c_kf =
+        f.T_w_c().RotationMatrix().transpose() * kf.T_w_c().RotationMatrix();
+    std::vector<double> d;
+    for (const auto& p : f.input.points) {
+      const auto it = kf_uv.find(p.point_id);
+      if (it == kf_uv.end()) continue;
+      const Eigen::Vector3d ray = R_c_kf * Eigen::Vector3d((it->second.x() - K.cx) / K.fx,
+                                                           (it->second.y() - K.cy) / K.fy, 1.0);
+      if (ray.z() <= 1e-6) continue;
+      const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
+      d.push_back((uv - p.uv).norm());
+    }
+    if (d.size() >= 8) return Median(d);
+    // Too few common points (scarce points, many lines): the parallax the baseline to the newest
+    // keyframe induces at the median depth of the tracked landmarks, f * baseline / depth.
+    const SE3d T_c_w = f.T_w_c().Inverse();
+    const Eigen::Vector3d centre = f.T_w_c().translation();
+    std::vector<double> depth;
+    for (std::size_t i = 0; i < f.input.points.size(); ++i) {
+      const auto it = points.find(f.input.points[i].point_id);
+      if (it == points.end() || f.point_outlier[i]) continue;
+      const double z =
+          (T_c_w * Eigen::Vector3d(it->second->p[0], it->second->p[1], it->second->p[2])).z();
+      if (z > 0.0) depth.push_back(z);
+    }
+    for (std::size_t i = 0; i < f.input.segments.size(); ++i) {
+      const auto it = lines.find(f.input.segments[i].line_id);
+      if (it == lines.end() || f.segment_outlier[i]) continue;
+      const Line6d L_w = WorldFromAnchored(
+          PluckerFromOrthonormal(OrthonormalLine::FromParameters(it->second->block)),
+          it->second->anchor);
+      const std::optional<double> dist = PointLineDistance(L_w, centre);
+      if (dist && *dist > 0.0) depth.push_back(*dist);
+    }
+    if (depth.empty()) return 0.0;
+    const double baseline = (centre - kf.T_w_c().translation()).norm();
+    return 0.5 * (K.fx + K.fy) * baseline / Median(depth);
+  }
+
+  // --- triangulation ---------------------------------------------------------------------------
+
+  // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
+  void Triangulate(const Frame& f, int* new_points, int* new_lines) {
+    for (const auto& obs : f.input.points) {
+      if (points.count(obs.point_id)) continue;
+      std::vector<SE3d> poses;
+      std::vector<Eigen::Vector2d> uvs;
+      for (const auto& kf : keyframes) {
+        for (std::size_t i = 0; i < kf->input.points.size(); ++i) {
+          if (kf->input.points[i].point_id != obs.point_id || kf->point_outlier[i]) continue;
+          poses.push_back(kf->T_w_c());
+          uvs.push_back(kf->input.points[i].uv);
+          break;
+        }
+      }
+      if (poses.size() < 2) continue;
+      const PointTriangulationResult t = TriangulatePoint(K, poses, uvs, opt.point_triangulation);
+      if (!t.ok() || t.final_rms_px > 2.0 * opt.point_sigma_px + 1.0) continue;
+      auto lm = std::make_unique<PointLandmark>();
+      for (int i = 0; i < 3; ++i) lm->p[i] = t.p_w(i);
+      points[obs.point_id] = std::move(lm);
+      ++*new_points;
+    }
+    if (!opt.use_lines) return;
+    for (const auto& obs : f.input.segments) {
+      if (lines.count(obs.line_id)) continue;
+      std::vector<LineObservation> views;
+      for (const auto& kf : keyframes) {
+        for (std::size_t i = 0; i < kf->input.segments.size(); ++i) {
+          const auto& s = kf->input.segments[i];
+          if (s.line_id != obs.line_id || kf->segment_outlier[i]) continue;
+          views.push_back({kf->T_w_c(), s.s_px, s.e_px});
+          break;
+        }
+      }
+      if (views.size() < 2) continue;
+      const LineTriangulationResult t = TriangulateLine(K, views, opt.line_triangulation);
+      if (!t.ok() || t.sigma_ratio > opt.max_line_sigma_ratio) continue;
+      LineAnchor anchor;
+      if (opt.condition_far_lines)
+        anchor = MakeLineAnchor(t.L_w, views.front().T_w_c.translation());
+      const std::optional<OrthonormalLine> o =
+          OrthonormalFromPlucker(AnchoredFromWorld(t.L_w, anchor));
+      if (!o) continue;
+      auto lm = std::make_unique<LineLandmark>();
+      lm->anchor = anchor;
+      o->ToParameters(lm->block);
+      lines[obs.line_id] = std::move(lm);
+      ++*new_lines;
+    }
+  }
+
+  // --- window solve ----------------------------------------------------------------------------
+
+  std::vector<const double*> FirstEstimatesOf(const std::vector<double*>& blocks) const {
+    std::vector<const double*> out(blocks.size(), nullptr);
+    if (!opt.first_estimate_jacobians) return out;
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+      const auto it = fe.find(blocks[i]);
+      if (it != fe.end()) out[i] = it->second.data();
+    }
+    return out;
+  }
+
+  bool HasPosePrior() const {
+    for (const auto& f : keyframes)
+      if (f->input.T_w_c_prior) return true;
+    return false;
+  }
+
+  // Builds the window problem into `problem` (culling what cannot be evaluated first). Returns
+  // the number of residual blocks.
+  int BuildProblem(ceres::Problem* problem, bool hold_gauge) {
+    std::vector<ResidualSpec> residuals;
+    for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &residuals);
+    int n = 0;
+    for (ResidualSpec& r : residuals) {
+      if (r.frame != nullptr) {
+        double res[2];
+        std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
+        if (!r.cost->Evaluate(params.data(), res, nullptr)) {
+          (r.is_point ? r.frame->point_outlier : r.frame->segment_outlier)[r.observation] = 1;
+          continue;
+        }
+      }
+      const std::vector<const double*> first = FirstEstimatesOf(r.blocks);
+      ceres::CostFunction* cost = r.cost.release();
+      if (std::any_of(first.begin(), first.end(), [](const double* p) { return p != nullptr; })) {
+        cost = new FirstEstimateCost(cost, first);
+      }
+      problem->AddResidualBlock(cost, r.robust ? loss.get() : nullptr, r.blocks);
+      ++n;
+    }
+    if (prior) {
+      problem->AddResidualBlock(prior->CreateCostFunction(), nullptr, prior_blocks);
+      ++n;
+    }
+    for (auto& f : keyframes) {
+      if (problem->HasParameterBlock(f->pose)) problem->SetManifold(f->pose, &pose_manifold);
+    }
+    for (auto& [id, l] : lines) {
+      if (problem->HasParameterBlock(l->block)) problem->SetManifold(l->block, &line_manifold);
+    }
+    if (hold_gauge && !prior && !HasPosePrior() &&
+        problem->HasParameterBlock(keyframes.front()->pose)) {
+      problem->SetParameterBlockConstant(keyframes.front()->pose);
+    }
+    return n;
+  }
+
+  static ceres::Problem::Options ProblemOptions() {
+    ceres::Problem::Options po;
+    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return po;
+  }
+
+  void SolveWindow(FrameResult* result) {
+    ceres::Problem problem(ProblemOptions());
+    result->residuals = BuildProblem(&problem, true);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    so.max_num_iterations = opt.max_iterations;
+    so.num_threads = 1;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    result->window_iterations = static_cast<int>(summary.iterations.size()) - 1;
+    result->initial_cost = summary.initial_cost;
+    result->final_cost = summary.final_cost;
+    // Cull outliers and landmarks left with too few observations.
+    std::vector<ResidualSpec> check;
+    for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &check);
+    result->culled_observations = CullOutliers(check);
+    RemoveWeakLandmarks();
+  }
+
+  // Landmarks observed (as inliers) by fewer than two keyframes and not in the prior.
+  void RemoveWeakLandmarks() {
+    std::map<int, int> point_count, line_count;
+    for (const auto& f : keyframes) {
+      for (std::size_t i = 0; i < f->input.points.size(); ++i)
+        if (!f->point_outlier[i]) ++point_count[f->input.points[i].point_id];
+      for (std::size_t i = 0; i < f->input.segments.size(); ++i)
+        if (!f->segment_outlier[i]) ++line_count[f->input.segments[i].line_id];
+    }
+    for (auto it = points.begin(); it != points.end();) {
+      if (point_count[it->first] < 2 && !InPrior(it->second->p)) {
+        it = points.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (auto it = lines.begin(); it != lines.end();) {
+      if (line_count[it->first] < 2 && !InPrior(it->second->block)) {
+        it = lines.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+
+  // --- marginalization -------------------------------------------------------------------------
+
+  void MarginalizeOldest(FrameResult* result) {
+    Frame* f0 = keyframes.front().get();
+    std::set<int> points_kept, lines_kept;  // observed by a remaining keyframe
+    for (std::size_t k = 1; k < keyframes.size(); ++k) {
+      const Frame& f = *keyframes[k];
+      for (std::size_t i = 0; i < f.input.points.size(); ++i)
+        if (!f.point_outlier[i]) points_kept.insert(f.input.points[i].point_id);
+      for (std::size_t i = 0; i < f.input.segments.size(); ++i)
+        if (!f.segment_outlier[i]) lines_kept.insert(f.input.segments[i].line_id);
+    }
+    std::vector<ResidualSpec> residuals;
+    AppendFrameResiduals(f0, true, opt.use_lines && opt.keep_marginalized_lines, &residuals);
+    if (opt.use_lines && !opt.keep_marginalized_lines) {
+      for (std::size_t i = 0; i < f0->input.segments.size(); ++i)
+        if (!f0->segment_outlier[i] && lines.count(f0->input.segments[i].line_id))
+          ++result->dropped_line_observations;
+    }
+    // Drop residuals that cannot be evaluated.
+    residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
+                                   [](const ResidualSpec& r) {
+                                     std::vector<const double*> params(r.blocks.begin(),
+                                                                       r.blocks.end());
+                                     std::vector<double> res(r.cost->num_residuals());
+                                     return !r.cost->Evaluate(params.data(), res.data(), nullptr);
+                                   }),
+                    residuals.end());
+    if (prior) {
+      ResidualSpec r;
+      r.cost.reset(prior->CreateCostFunction());
+      r.robust = false;
+      r.blocks = prior_blocks;
+      residuals.push_back(std::move(r));
+    }
+    // Blocks touched, and the ones to remove.
+    std::vector<double*> touched;
+    for (const ResidualSpec& r : residuals)
+      for (double* b : r.blocks)
+        if (std::find(touched.begin(), touched.end(), b) == touched.end()) touched.push_back(b);
+    std::vector<double*> remove;
+    std::vector<int> remove_points, remove_lines;
+    for (const auto& [id, p] : points) {
+      if (points_kept.count(id)) continue;
+      remove_points.push_back(id);
+      if (std::find(touched.begin(), touched.end(), p->p) != touched.end()) remove.push_back(p->p);
+    }
+    for (const auto& [id, l] : lines) {
+      if (lines_kept.count(id)) continue;
+      remove_lines.push_back(id);
+      if (std::find(touched.begin(), touched.end(), l->block) != touched.end())
+        remove.push_back(l->block);
+    }
+    const bool pose_touched = std::find(touched.begin(), touched.end(), f0->pose) != touched.end();
+    if (pose_touched) remove.push_back(f0->pose);
+
+    std::unique_ptr<MarginalizationPrior> next;
+    std::vector<double*> next_blocks;
+    if (pose_touched) {
+      // Linearise at the first estimates (FEJ): a scratch copy of every block.
+      std::vector<std::vector<double>> scratch(touched.size());
+      std::unordered_map<double*, double*> to_scratch;
+      std::unordered_map<const double*, double*> to_real;
+      std::vector<MarginalizationBlock> blocks;
+      for (std::size_t i = 0; i < touched.size(); ++i) {
+        const BlockKind kind = KindOf(touched[i]);
+        const int n = AmbientSize(kind);
+        const auto it = fe.find(touched[i]);
+        if (opt.first_estimate_jacobians && it != fe.end()) {
+          scratch[i] = it->second;
+        } else {
+          scratch[i].assign(touched[i], touched[i] + n);
+        }
+        to_scratch[touched[i]] = scratch[i].data();
+        to_real[scratch[i].data()] = touched[i];
+        blocks.push_back({scratch[i].data(), n, ManifoldOf(kind)});
+      }
+      std::vector<MarginalizationResidual> mres;
+      for (const ResidualSpec& r : residuals) {
+        MarginalizationResidual m;
+        m.cost = r.cost.get();
+        m.loss = r.robust ? loss.get() : nullptr;
+        for (double* b : r.blocks) m.blocks.push_back(to_scratch[b]);
+        mres.push_back(std::move(m));
+      }
+      std::vector<double*> mremove;
+      for (double* b : remove) mremove.push_back(to_scratch[b]);
+      try {
+        next = std::make_unique<MarginalizationPrior>(
+            MarginalizationPrior::Build(blocks, mres, mremove, opt.marginalization));
+        for (const MarginalizationBlock& b : next->KeptBlocks())
+          next_blocks.push_back(to_real[b.values]);
+      } catch (const std::invalid_argument&) {
+        next.reset();
+        result->marginalization_failed = true;
+      }
+    }
+    // Install the new prior and its first estimates.
+    fe.clear();
+    prior = std::move(next);
+    prior_blocks = next_blocks;
+    if (prior) {
+      result->prior_rank = prior->Statistics().prior_rank;
+      for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
+        if (opt.first_estimate_landmarks || KindOf(prior_blocks[i]) == BlockKind::kPose)
+          fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
+      }
+      if (prior->Statistics().prior_rank == 0) {
+        prior.reset();
+        prior_blocks.clear();
+        fe.clear();
+      }
+    }
+    keyframes.pop_front();
+    for (int id : remove_points) points.erase(id);
+    for (int id : remove_lines) lines.erase(id);
+    result->marginalized_keyframes = 1;
+    result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
+    RemoveWeakLandmarks();
+  }
+
+  void FillCounts(FrameResult* r) const {
+    r->window_points = static_cast<int>(points.size());
+    r->window_lines = static_cast<int>(lines.size());
+    r->window_keyframes = static_cast<int>(keyframes.size());
+  }
+};
+
+SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
+                                               const SlidingWindowOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  if (!K.IsValid()) throw std::invalid_argument("SlidingWindowEstimator: invalid intrinsics");
+  if (options.window_size < 2)
+    throw std::invalid_argument("SlidingWindowEstimator: window_size < 2");
+  if (!(options.point_sigma_px > 0.0) || !(options.line_sigma_px > 0.0) ||
+      !(options.loss_scale > 0.0))
+    throw std::invalid_argument("SlidingWindowEstimator: sigmas and loss scale must be positive");
+  impl_->K = K;
+  impl_->opt = options;
+  if (options.loss == LossKind::kHuber)
+    impl_->loss = std::make_unique<ceres::HuberLoss>(options.loss_scale);
+  if (options.loss == LossKind::kCauchy)
+    impl_->loss = std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+}
+
+SlidingWindowEstimator::~SlidingWindowEstimator() = default;
+
+bool SlidingWindowEstimator::initialized() const { return !impl_->keyframes.empty(); }
+
+InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, const SE3d& T_w_a,
+                                                        const FrameInput& b, const SE3d& T_w_b,
+                                                        int min_landmarks) {
+  Impl& m = *impl_;
+  m.keyframes.clear();
+  m.points.clear();
+  m.lines.clear();
+  m.prior.reset();
+  m.prior_blocks.clear();
+  m.fe.clear();
+  InitializationResult result;
+  m.keyframes.push_back(m.MakeFrame(a, T_w_a));
+  m.keyframes.push_back(m.MakeFrame(b, T_w_b));
+  m.Triangulate(*m.keyframes.back(), &result.points, &result.lines);
+  if (result.points + result.lines < min_landmarks) {
+    m.keyframes.clear();
+    m.points.clear();
+    m.lines.clear();
+    return result;
+  }
+  FrameResult solve;
+  m.SolveWindow(&solve);
+  result.iterations = solve.window_iterations;
+  result.points = static_cast<int>(m.points.size());
+  result.lines = static_cast<int>(m.lines.size());
+  result.T_w_a = m.keyframes.front()->T_w_c();
+  result.T_w_b = m.keyframes.back()->T_w_c();
+  result.ok = result.points + result.lines >= min_landmarks;
+  if (!result.ok) {
+    m.keyframes.clear();
+    m.points.clear();
+    m.lines.clear();
+    return result;
+  }
+  m.prev_T_w_c = result.T_w_a;
+  m.last_T_w_c = result.T_w_b;
+  return result;
+}
+
+FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
+                                             const StageObserver& observer) {
+  Impl& m = *impl_;
+  auto stage = [&observer](WindowStage s) {
+    if (observer) observer(s);
+  };
+  FrameResult result;
+  if (m.keyframes.empty())
+    throw std::logic_error("SlidingWindowEstimator::AddFrame before Initialize");
+  // Predict.
+  const SE3d predicted = input.T_w_c_guess ? *input.T_w_c_guess
+                                           : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
+  std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
+  stage(WindowStage::kTracking);
+  const Impl::TrackResult track = m.Track(frame.get(), predicted);
+  result.tracking_iterations = track.iterations;
+  result.tracked_points = track.points;
+  result.tracked_lines = track.lines;
+  result.ok = track.ok;
+  result.T_w_c = track.ok ? track.T_w_c : predicted;
+  result.T_w_c.ToParameters(frame->pose);
+  // Decide.
+  result.parallax_px = m.Parallax(*frame);
+  const int observed = static_cast<int>(frame->input.points.size() + frame->input.segments.size());
+  result.keyframe = track.ok && (result.parallax_px >= m.opt.keyframe_parallax_px ||
+                                 track.points + track.lines < m.opt.min_tracked ||
+                                 track.points + track.lines < m.opt.min_tracked_ratio * observed);
+  if (result.keyframe) {
+    m.keyframes.push_back(std::move(frame));
+    stage(WindowStage::kTriangulation);
+    m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines);
+    stage(WindowStage::kSolve);
+    m.SolveWindow(&result);
+    result.T_w_c = m.keyframes.back()->T_w_c();
+    if (static_cast<int>(m.keyframes.size()) > m.opt.window_size) {
+      stage(WindowStage::kMarginalization);
+      m.MarginalizeOldest(&result);
+    }
+  }
+  m.prev_T_w_c = m.last_T_w_c;
+  m.last_T_w_c = result.T_w_c;
+  m.FillCounts(&result);
+  stage(WindowStage::kDone);
+  return result;
+}
+
+std::optional<SE3d> SlidingWindowEstimator::Localize(const FrameInput& input,
+                                                     const SE3d& guess) const {
+  if (impl_->keyframes.empty()) return std::nullopt;
+  // MakeFrame only numbers the frame; a local copy of the counter keeps this const.
+  Impl& m = *impl_;
+  const int saved = m.next_index;
+  std::unique_ptr<Frame> frame = m.MakeFrame(input, guess);
+  m.next_index = saved;
+  const Impl::TrackResult track = m.Track(frame.get(), guess);
+  if (!track.ok) return std::nullopt;
+  return track.T_w_c;
+}
+
+std::optional<Eigen::Matrix<double, 6, 6>> SlidingWindowEstimator::NewestPoseCovariance() const {
+  Impl& m = *impl_;
+  if (m.keyframes.empty()) return std::nullopt;
+  ceres::Problem problem(Impl::ProblemOptions());
+  m.BuildProblem(&problem, false);
+  double* pose = m.keyframes.back()->pose;
+  if (!problem.HasParameterBlock(pose)) return std::nullopt;
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::SPARSE_QR;  // fails (nullopt) when the information is rank-deficient
+  co.apply_loss_function = true;
+  ceres::Covariance covariance(co);
+  const std::vector<std::pair<const double*, const double*>> blocks = {{pose, pose}};
+  if (!covariance.Compute(blocks, &problem)) return std::nullopt;
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
+  if (!covariance.GetCovarianceBlockInTangentSpace(pose, pose, c.data())) return std::nullopt;
+  return Eigen::Matrix<double, 6, 6>(c);
+}
+
+std::vector<SE3d> SlidingWindowEstimator::KeyframePoses() const {
+  std::vector<SE3d> out;
+  for (const auto& f : impl_->keyframes) out.push_back(f->T_w_c());
+  return out;
+}
+
+std::map<int, Eigen::Vector3d> SlidingWindowEstimator::Points() const {
+  std::map<int, Eigen::Vector3d> out;
+  for (const auto& [id, p] : impl_->points) out[id] = Eigen::Vector3d(p->p[0], p->p[1], p->p[2]);
+  return out;
+}
+
+std::map<int, Line6d> SlidingWindowEstimator::Lines() const {
+  std::map<int, Line6d> out;
+  for (const auto& [id, l] : impl_->lines) {
+    const Line6d L_a = PluckerFromOrthonormal(OrthonormalLine::FromParameters(l->block));
+    const std::optional<Line6d> L_w = NormalizeLineDirection(WorldFromAnchored(L_a, l->anchor));
+    if (L_w) out[id] = *L_w;
+  }
+  return out;
+}
+
+}  // namespace window
+}  // namespace plucker

@@ -1,0 +1,183 @@
+#include "plucker/window/sliding_window_estimator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "plucker/eval/ate.h"
+#include "plucker/sim/camera_observations.h"
+
+namespace plucker {
+namespace window {
+namespace {
+
+struct WindowRun {
+  std::vector<SE3d> gt, est;
+  double ate_m = 0.0;
+  int keyframes = 0;
+  int marginalized = 0;
+  int failed_marginalizations = 0;
+  int lost = 0;
+  int line_obs_dropped = 0;
+  double mean_nees = 0.0;
+  int nees_count = 0;
+  bool initialized = false;
+};
+
+sim::CameraSimulation Simulate(sim::SceneKind kind, int frames, std::uint64_t seed) {
+  sim::CameraSimulationOptions options;
+  options.scene.kind = kind;
+  options.num_frames = frames;
+  options.seed = seed;
+  options.simulate_imu = false;
+  return sim::SimulateCamera(options);
+}
+
+// The frames of a simulation as window input; point tracks kept when id % point_stride == 0.
+std::vector<FrameInput> Inputs(const sim::CameraSimulation& s, int point_stride) {
+  std::vector<FrameInput> in(s.frame_times.size());
+  for (std::size_t i = 0; i < in.size(); ++i) in[i].time = s.frame_times[i];
+  for (const auto& p : s.points)
+    if (p.point_id >= 0 && p.point_id % point_stride == 0) in[p.frame].points.push_back(p);
+  for (const auto& l : s.segments) in[l.frame].segments.push_back(l);
+  return in;
+}
+
+// Runs the window from ground-truth poses of frames 0 and `second` (a test may; the CLI may not),
+// frames in between localized.
+WindowRun RunWindow(const sim::CameraSimulation& s, const std::vector<FrameInput>& in,
+                    const SlidingWindowOptions& options, int second = 3, bool nees = false) {
+  WindowRun run;
+  SlidingWindowEstimator estimator(s.rig.K, options);
+  const InitializationResult init =
+      estimator.Initialize(in[0], s.T_w_c_gt[0], in[second], s.T_w_c_gt[second]);
+  run.initialized = init.ok;
+  if (!init.ok) return run;
+  run.est.push_back(init.T_w_a);
+  for (int i = 1; i < second; ++i) {
+    run.est.push_back(estimator.Localize(in[i], init.T_w_a).value_or(init.T_w_a));
+  }
+  run.est.push_back(init.T_w_b);
+  double nees_sum = 0.0;
+  for (std::size_t i = second + 1; i < in.size(); ++i) {
+    const FrameResult r = estimator.AddFrame(in[i]);
+    run.est.push_back(r.T_w_c);
+    run.keyframes += r.keyframe;
+    run.marginalized += r.marginalized_keyframes;
+    run.failed_marginalizations += r.marginalization_failed;
+    run.lost += !r.ok;
+    run.line_obs_dropped += r.dropped_line_observations;
+    if (nees && r.keyframe) {
+      const auto cov = estimator.NewestPoseCovariance();
+      if (cov) {
+        // Error in the PoseManifold tangent (rotation angle in [0, pi]).
+        const Eigen::AngleAxisd aa(s.T_w_c_gt[i].RotationMatrix().transpose() *
+                                   r.T_w_c.RotationMatrix());
+        Vector6d e;
+        e << aa.angle() * aa.axis(), r.T_w_c.translation() - s.T_w_c_gt[i].translation();
+        nees_sum += e.dot(cov->ldlt().solve(e));
+        ++run.nees_count;
+      }
+    }
+  }
+  run.gt = s.T_w_c_gt;
+  if (run.nees_count > 0) run.mean_nees = nees_sum / run.nees_count;
+  eval::AteOptions ate;
+  ate.align = eval::AlignmentMode::kSim3;
+  run.ate_m = eval::ComputeAte(run.gt, run.est, ate).translation_m.rmse;
+  return run;
+}
+
+TEST(SlidingWindowEstimator, RecoversPosesOnASimulatedRoom) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 40, 1);
+  SlidingWindowOptions options;
+  const WindowRun run = RunWindow(s, Inputs(s, 1), options);
+  ASSERT_TRUE(run.initialized);
+  std::printf(
+      "room 40 frames, all points + lines: ATE %.4f m, %d keyframes, %d marginalized, %d lost\n",
+      run.ate_m, run.keyframes, run.marginalized, run.lost);
+  ASSERT_EQ(run.est.size(), s.T_w_c_gt.size());
+  EXPECT_GT(run.keyframes, 5);
+  EXPECT_GT(run.marginalized, 0);
+  EXPECT_EQ(run.failed_marginalizations, 0);
+  EXPECT_EQ(run.lost, 0);
+  EXPECT_LT(run.ate_m, 0.05);
+}
+
+// Keeping the line observations of the marginalized keyframe in the prior against dropping them
+// (PL-VIO): the ATE of both over three seeds, scarce points (one point track in ten), window 5.
+// Measured: dropping is no worse here (docs/vo.md); the test reports both and checks the policy
+// did what it says.
+TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptOrDropped) {
+  double kept_sum = 0.0, dropped_sum = 0.0;
+  int dropped_observations = 0;
+  int runs = 0;
+  for (std::uint64_t seed = 1; seed <= 6 && runs < 3; ++seed) {
+    const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 50, seed);
+    const std::vector<FrameInput> in = Inputs(s, 10);
+    SlidingWindowOptions keep;
+    keep.window_size = 5;
+    SlidingWindowOptions drop = keep;
+    drop.keep_marginalized_lines = false;
+    const WindowRun kept = RunWindow(s, in, keep);
+    const WindowRun dropped = RunWindow(s, in, drop);
+    if (!kept.initialized || !dropped.initialized) continue;  // too few points at frames 0 and 3
+    ++runs;
+    std::printf(
+        "room seed %d, scarce points: ATE lines kept %.4f m, dropped %.4f m (%d line "
+        "observations dropped)\n",
+        static_cast<int>(seed), kept.ate_m, dropped.ate_m, dropped.line_obs_dropped);
+    EXPECT_EQ(kept.line_obs_dropped, 0);
+    EXPECT_GT(kept.marginalized, 5);
+    kept_sum += kept.ate_m;
+    dropped_sum += dropped.ate_m;
+    dropped_observations += dropped.line_obs_dropped;
+  }
+  ASSERT_EQ(runs, 3);
+  std::printf("mean ATE over 3 seeds: lines kept %.4f m, dropped %.4f m\n", kept_sum / 3,
+              dropped_sum / 3);
+  EXPECT_GT(dropped_observations, 300);
+  EXPECT_LT(kept_sum / 3, 0.5);
+  EXPECT_LT(dropped_sum / 3, 0.5);
+}
+
+// NEES of the newest keyframe pose: every frame carries a noisy absolute pose prior (a stand-in
+// for the IMU and gravity that fix the gauge and the scale monocular vision cannot), drawn from
+// the prior's own distribution, so the window's covariance of the newest pose is defined; the
+// normalized estimation error squared e^T P^-1 e (6 degrees of freedom) is reported.
+TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 40, 3);
+  std::vector<FrameInput> in = Inputs(s, 2);
+  const double sigma_rot = 2.0 * M_PI / 180.0, sigma_t = 0.10;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Identity();
+  S.topLeftCorner<3, 3>() /= sigma_rot;
+  S.bottomRightCorner<3, 3>() /= sigma_t;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    Vector6d d;
+    for (int k = 0; k < 6; ++k) d(k) = normal(rng) * (k < 3 ? sigma_rot : sigma_t);
+    in[i].T_w_c_prior = s.T_w_c_gt[i].Plus(d);
+    in[i].prior_sqrt_information = S;
+  }
+  SlidingWindowOptions options;
+  options.window_size = 6;
+  options.loss = LossKind::kTrivial;  // the covariance of a Gaussian problem
+  const WindowRun run = RunWindow(s, in, options, 3, true);
+  ASSERT_TRUE(run.initialized);
+  options.first_estimate_jacobians = false;
+  const WindowRun relinearised = RunWindow(s, in, options, 3, true);
+  std::printf(
+      "room 40 frames with pose priors: mean NEES of the newest pose %.2f over %d "
+      "keyframes (6 expected), ATE %.4f m; without first-estimate Jacobians %.2f\n",
+      run.mean_nees, run.nees_count, run.ate_m, relinearised.mean_nees);
+  EXPECT_GE(run.nees_count, 8);
+  EXPECT_GT(run.mean_nees, 1.0);
+  EXPECT_LT(run.mean_nees, 18.0);
+}
+
+}  // namespace
+}  // namespace window
+}  // namespace plucker

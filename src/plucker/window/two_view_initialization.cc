@@ -1,0 +1,84 @@
+#include "plucker/window/two_view_initialization.h"
+
+#include <algorithm>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <unordered_map>
+
+namespace plucker {
+namespace window {
+
+TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
+                                const std::vector<sensor::PointObservation>& a,
+                                const std::vector<sensor::PointObservation>& b,
+                                const TwoViewOptions& options) {
+  TwoViewResult result;
+  std::unordered_map<int, Eigen::Vector2d> uv_a;
+  for (const auto& p : a)
+    if (p.point_id >= 0 && p.uv.allFinite()) uv_a[p.point_id] = p.uv;
+  std::vector<cv::Point2d> xa, xb;  // normalised coordinates
+  std::vector<Eigen::Vector2d> pa, pb;
+  for (const auto& p : b) {
+    const auto it = uv_a.find(p.point_id);
+    if (p.point_id < 0 || it == uv_a.end() || !p.uv.allFinite()) continue;
+    xa.emplace_back((it->second.x() - K.cx) / K.fx, (it->second.y() - K.cy) / K.fy);
+    xb.emplace_back((p.uv.x() - K.cx) / K.fx, (p.uv.y() - K.cy) / K.fy);
+    pa.push_back(it->second);
+    pb.push_back(p.uv);
+  }
+  result.common_tracks = static_cast<int>(xa.size());
+  if (result.common_tracks < std::max(options.min_common_tracks, 5)) {
+    result.message = "too few common point tracks (" + std::to_string(result.common_tracks) + ")";
+    return result;
+  }
+  const double f = 0.5 * (K.fx + K.fy);
+  cv::Mat inlier_mask;
+  const cv::Mat E = cv::findEssentialMat(xa, xb, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
+                                         options.ransac_threshold_px / f, inlier_mask);
+  if (E.rows != 3 || E.cols != 3) {
+    result.message = "no essential matrix";
+    return result;
+  }
+  cv::Mat R, t;
+  result.inliers = cv::recoverPose(E, xa, xb, R, t, 1.0, cv::Point2d(0, 0), inlier_mask);
+  if (result.inliers < options.min_inliers ||
+      result.inliers < options.min_inlier_ratio * result.common_tracks) {
+    result.message = "too few inliers (" + std::to_string(result.inliers) + " of " +
+                     std::to_string(result.common_tracks) + ")";
+    return result;
+  }
+  Eigen::Matrix3d R_b_a;
+  Eigen::Vector3d t_b_a;
+  cv::cv2eigen(R, R_b_a);
+  cv::cv2eigen(t, t_b_a);
+  // Rotation-compensated parallax of the inliers.
+  std::vector<double> parallax;
+  for (std::size_t i = 0; i < xa.size(); ++i) {
+    if (!inlier_mask.at<uchar>(static_cast<int>(i))) continue;
+    const Eigen::Vector3d ray = R_b_a * Eigen::Vector3d(xa[i].x, xa[i].y, 1.0);
+    if (ray.z() <= 1e-9) continue;
+    const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
+    parallax.push_back((uv - pb[i]).norm());
+  }
+  if (parallax.empty()) {
+    result.message = "no inlier in front of both cameras";
+    return result;
+  }
+  std::nth_element(parallax.begin(), parallax.begin() + parallax.size() / 2, parallax.end());
+  result.parallax_px = parallax[parallax.size() / 2];
+  if (result.parallax_px < options.min_parallax_px) {
+    result.message = "too little parallax (" + std::to_string(result.parallax_px) + " px)";
+    return result;
+  }
+  if (!R_b_a.allFinite() || !t_b_a.allFinite() || t_b_a.norm() < 0.5) {
+    result.message = "degenerate pose";
+    return result;
+  }
+  result.T_b_a = SE3d(R_b_a, t_b_a.normalized());
+  result.ok = true;
+  return result;
+}
+
+}  // namespace window
+}  // namespace plucker
