@@ -272,9 +272,27 @@ if [ -f "$KITTI/poses.txt" ]; then
   expect lines-match-kitti 0 "[0-9]+ matches" -- \
     "$PLUCKER" lines match --image1 "$KITTI/image_0/000000.png" --image2 "$KITTI/image_0/000001.png" \
     --calib "$KITTI/calib.txt" --draw "$T/km.png"
+  # Monocular odometry on the first real frames (image front end + window).
+  mkdir -p "$T/kvo"
+  for i in 0 1 2 3 4 5 6 7; do cp "$KITTI/image_0/00000$i.png" "$T/kvo/"; done
+  expect vo-images-kitti 0 "8 frames \(initialised on frames" -- \
+    "$PLUCKER" vo --images "$T/kvo" --calib "$KITTI/calib.txt" --out "$T/kvo.txt" \
+    --json "$T/kvo.json"
+  expect vo-images-kitti-rows 0 "^8$" -- bash -c "wc -l < '$T/kvo.txt'"
+  expect vo-images-kitti-json 0 '"frontend_mean_ms"' -- cat "$T/kvo.json"
+  # Another size than the calibration's: every image skipped and named, then too little to start.
+  expect vo-images-wrong-size nonzero "skipped .*box_a.pgm: image size 80x60 differs" -- \
+    "$PLUCKER" vo --images "$T/img" --sensor "$KITTI/../euroc-v101-head/mav0/cam0/sensor.yaml" \
+    --out "$T/vo_x.txt"
 else
-  echo "skip lines-track-kitti-*: no KITTI clip at $KITTI"
+  echo "skip lines-track-kitti-*, vo-images-*: no KITTI clip at $KITTI"
 fi
+expect vo-images-no-calib nonzero "needs --calib calib.txt or --sensor" -- \
+  "$PLUCKER" vo --images "$T/img" --out "$T/vo_x.txt"
+expect vo-two-sources nonzero "excludes" -- \
+  "$PLUCKER" vo --images "$T/img" --features "$T/cam" --calib "$T/one_pose.txt" --out "$T/vo_x.txt"
+expect vo-no-source nonzero "give --features DIR or --images DIR" -- \
+  "$PLUCKER" vo --out "$T/vo_x.txt"
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -91,7 +91,9 @@ TEST(LineMatcher, ShiftedImageMatchesItsOwnEdges) {
     EXPECT_EQ(r.stats.matches, static_cast<int>(r.matches.size()));
     EXPECT_GT(r.stats.matches, fa.size() / 2) << "of " << fa.size();
     EXPECT_GE(correct, 0.95 * r.stats.matches);
-    if (p) EXPECT_GT(r.stats.rejected_prediction, 0);
+    if (p) {
+      EXPECT_GT(r.stats.rejected_prediction, 0);
+    }
   }
 }
 
