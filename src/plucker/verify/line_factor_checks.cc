@@ -19,9 +19,11 @@
 // seeds).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "plucker/factors/anchored_line_factor.h"
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/line_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
@@ -41,6 +43,7 @@ struct LineFactorSample {
   Eigen::Vector2d s_px, e_px;
   Eigen::Matrix2d sqrt_info;
   bool expect_guard = false;
+  LineAnchor anchor;  // the anchored factor's: the line block is in this frame
 };
 
 // A parameter block of size n: a pose or an orthonormal line.
@@ -137,8 +140,28 @@ LineFactorSample VISample(Rng& rng, int i) {
   return smp;
 }
 
-using CreateFn = ceres::CostFunction* (*)(const PinholeIntrinsics&, const Eigen::Vector2d&,
-                                          const Eigen::Vector2d&, const Eigen::Matrix2d&);
+// The mono sample with the line in an anchor frame: c_w near the camera, scale its distance.
+LineFactorSample AnchoredSample(Rng& rng, int i) {
+  LineFactorSample smp = MonoSample(rng, i);
+  const Line6d L_w = PluckerFromOrthonormal(OrthonormalLine::FromParameters(smp.blocks[1].data()));
+  const Eigen::Vector3d c_w = smp.blocks[0].head<3>() + RandomVector(rng, 0.5);
+  smp.anchor = MakeLineAnchor(L_w, c_w);
+  smp.blocks[1] = Block(*OrthonormalFromPlucker(AnchoredFromWorld(L_w, smp.anchor)), 6);
+  return smp;
+}
+
+using CreateFn = std::function<ceres::CostFunction*(const LineFactorSample&)>;
+using PlainCreateFn = ceres::CostFunction* (*)(const PinholeIntrinsics&, const Eigen::Vector2d&,
+                                               const Eigen::Vector2d&, const Eigen::Matrix2d&);
+CreateFn Plain(PlainCreateFn create) {
+  return [create](const LineFactorSample& s) { return create(s.K, s.s_px, s.e_px, s.sqrt_info); };
+}
+CreateFn Anchored(bool autodiff) {
+  return [autodiff](const LineFactorSample& s) {
+    return autodiff ? AnchoredLineFactor::CreateAutoDiff(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor)
+                    : AnchoredLineFactor::Create(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor);
+  };
+}
 
 // Check `name` of the factor made by create / create_autodiff on the samples of `sample`, with
 // central differences through the manifolds' Plus (tangent) or over the raw parameters.
@@ -151,8 +174,8 @@ NamedJacobianCheck LineFactorCheck(const std::string& name, std::uint64_t seed,
             return RunCostFunctionCheck(name, seed, o, [&](Rng& rng, int i) {
               const LineFactorSample smp = sample(rng, i);
               CostFunctionSample c;
-              c.analytic.reset(create(smp.K, smp.s_px, smp.e_px, smp.sqrt_info));
-              c.autodiff.reset(create_autodiff(smp.K, smp.s_px, smp.e_px, smp.sqrt_info));
+              c.analytic.reset(create(smp));
+              c.autodiff.reset(create_autodiff(smp));
               c.x = smp.blocks;  // poses, then the line
               c.manifolds.assign(c.x.size(), tangent ? &pose_manifold : nullptr);
               if (tangent) c.manifolds.back() = &line_manifold;
@@ -171,15 +194,17 @@ NamedJacobianCheck LineFactorCheck(const std::string& name, std::uint64_t seed,
 }  // namespace
 
 std::vector<NamedJacobianCheck> LineFactorJacobianChecks() {
-  const CreateFn mono = &LineReprojectionFactor::Create;
-  const CreateFn mono_ad = &LineReprojectionFactor::CreateAutoDiff;
-  const CreateFn vi = &LineReprojectionFactorVI::Create;
-  const CreateFn vi_ad = &LineReprojectionFactorVI::CreateAutoDiff;
+  const CreateFn mono = Plain(&LineReprojectionFactor::Create);
+  const CreateFn mono_ad = Plain(&LineReprojectionFactor::CreateAutoDiff);
+  const CreateFn vi = Plain(&LineReprojectionFactorVI::Create);
+  const CreateFn vi_ad = Plain(&LineReprojectionFactorVI::CreateAutoDiff);
   return {
       LineFactorCheck("factor.line.Reprojection.ambient", 200, MonoSample, mono, mono_ad, false),
       LineFactorCheck("factor.line.Reprojection.tangent", 201, MonoSample, mono, mono_ad, true),
       LineFactorCheck("factor.line.ReprojectionVI.ambient", 202, VISample, vi, vi_ad, false),
       LineFactorCheck("factor.line.ReprojectionVI.tangent", 203, VISample, vi, vi_ad, true),
+      LineFactorCheck("factor.line.Anchored.tangent", 204, AnchoredSample, Anchored(false),
+                      Anchored(true), true),
   };
 }
 

@@ -54,7 +54,7 @@
 #include "plucker/geometry/point_triangulation.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/sensor/camera_observations.h"
-#include "plucker/window/anchored_line_factor.h"
+#include "plucker/factors/anchored_line_factor.h"
 
 namespace plucker {
 namespace window {

@@ -1,4 +1,4 @@
-#include "plucker/window/anchored_line_factor.h"
+#include "plucker/factors/anchored_line_factor.h"
 
 #include <ceres/problem.h>
 #include <ceres/solver.h>
@@ -14,7 +14,6 @@
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
-namespace window {
 namespace {
 
 const PinholeIntrinsics kK{400.0, 400.0, 319.5, 239.5};
@@ -152,5 +151,4 @@ TEST(AnchoredLineFactor, FarLinesConvergeAsFastAsNearOnes) {
 }
 
 }  // namespace
-}  // namespace window
 }  // namespace plucker

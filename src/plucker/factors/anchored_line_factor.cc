@@ -1,4 +1,4 @@
-#include "plucker/window/anchored_line_factor.h"
+#include "plucker/factors/anchored_line_factor.h"
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -8,7 +8,6 @@
 #include "plucker/factors/line_reprojection_factor.h"
 
 namespace plucker {
-namespace window {
 namespace {
 
 void CheckAnchor(const LineAnchor& anchor) {
@@ -93,5 +92,4 @@ bool AnchoredLineFactor::Evaluate(double const* const* parameters, double* resid
   return true;
 }
 
-}  // namespace window
 }  // namespace plucker

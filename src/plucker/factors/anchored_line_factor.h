@@ -26,7 +26,6 @@
 #include "plucker/geometry/plucker_line.h"
 
 namespace plucker {
-namespace window {
 
 // The anchor of a line: x_a = (x_w - c_w) / scale. c_w = 0, scale = 1 is the plain world line.
 struct LineAnchor {
@@ -66,5 +65,4 @@ class AnchoredLineFactor final : public ceres::SizedCostFunction<2, 7, 6> {
   LineAnchor anchor_;
 };
 
-}  // namespace window
 }  // namespace plucker
