@@ -68,9 +68,6 @@ std::vector<Variant> Variants() {
   o = def;
   o.ed_nfa_validation = true;
   v.push_back({"  + EDLines NFA validation", false, o});
-  o = def;
-  o.ed_nfa_validation = true;
-  v.push_back({"  + EDLines NFA validation", false, o});
   return v;
 }
 
