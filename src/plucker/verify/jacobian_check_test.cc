@@ -47,9 +47,9 @@ TEST(RunJacobianChecks, FailsOnEmptyOrUnexpectedSelection) {
   const JacobianCheckRun too_many =
       RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 2, options);
   EXPECT_FALSE(too_many.ok());
-  EXPECT_EQ(too_many.stats.size(), 4u);
+  EXPECT_EQ(too_many.stats.size(), 5u);  // the four reprojection checks and the anchored one
   const JacobianCheckRun exact =
-      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 4, options);
+      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 5, options);
   EXPECT_TRUE(exact.ok()) << exact.error;
 }
 
