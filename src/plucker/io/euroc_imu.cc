@@ -98,8 +98,11 @@ double PositiveKey(const YAML::Node& root, const char* key, const std::string& n
 }
 
 void CheckIdentityTbs(const YAML::Node& root, const std::string& name) {
-  if (!root["T_BS"]) return;  // absent: the body frame is the IMU frame
-  const YAML::Node data = root["T_BS"]["data"];
+  const YAML::Node t_bs = root["T_BS"];
+  if (!t_bs) return;  // absent: the body frame is the IMU frame
+  // A scalar or a list has no "data" (yaml-cpp would throw BadSubscript, not an IoError).
+  if (!t_bs.IsMap()) throw IoError(name, "T_BS must be a map with rows, cols and data");
+  const YAML::Node data = t_bs["data"];
   if (!data.IsSequence() || data.size() != 16) {
     throw IoError(name, "T_BS/data must hold 16 numbers");
   }

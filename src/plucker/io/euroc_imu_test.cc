@@ -96,6 +96,9 @@ TEST(EurocImu, RefusesBadYaml) {
   rotated.replace(rotated.find("[1.0, 0.0"), 9, "[0.0, 1.0");
   ExpectError([&] { ParseEurocImuYaml(rotated, "s.yaml"); }, "s.yaml", "T_BS is not the identity");
   ExpectError([] { ParseEurocImuYaml("[1, 2", "s.yaml"); }, "s.yaml", "not YAML");
+  // Found by the fuzzer: a scalar T_BS was subscripted and threw yaml-cpp's BadSubscript.
+  ExpectError([] { ParseEurocImuYaml("T_BS: 3\nrate_hz: 200\n", "s.yaml"); }, "s.yaml",
+              "T_BS must be a map");
   ExpectError([] { ReadEurocImuRecording("/nonexistent/euroc"); }, "/nonexistent/euroc",
               "not a EuRoC folder");
 }
