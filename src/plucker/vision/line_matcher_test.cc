@@ -10,6 +10,7 @@
 
 #include "plucker/geometry/point_projection.h"
 #include "plucker/vision/line_tracker.h"
+#include "plucker/vision/vision_test_utils.h"
 
 // OpenCV 4.6's EdgeDrawing (the line detector) leaks ~32 bytes per detector inside
 // libopencv_ximgproc; only that module is suppressed (as in line_detector_test.cc).
@@ -45,12 +46,7 @@ cv::Mat Scene(int width, int height, unsigned seed) {
   return image;
 }
 
-cv::Mat Shifted(const cv::Mat& image, double dx, double dy) {
-  const cv::Matx23d A(1, 0, dx, 0, 1, dy);
-  cv::Mat out;
-  cv::warpAffine(image, out, A, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  return out;
-}
+using testing::Shifted;
 
 double LineDistance(const Eigen::Vector2d& p, const Segment2d& s) {
   const Eigen::Vector2d a = s.head<2>(), d = (s.tail<2>() - a).normalized();

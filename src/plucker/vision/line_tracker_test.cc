@@ -16,6 +16,7 @@
 #include "plucker/io/image_folder.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/vision/point_tracker.h"
+#include "plucker/vision/vision_test_utils.h"
 
 // OpenCV 4.6's EdgeDrawing (the line detector) leaks ~32 bytes per detector inside
 // libopencv_ximgproc; only that module is suppressed (as in line_detector_test.cc).
@@ -46,12 +47,7 @@ cv::Mat Scene(int width, int height, unsigned seed) {
   return image;
 }
 
-cv::Mat Shifted(const cv::Mat& image, double dx, double dy) {
-  const cv::Matx23d A(1, 0, dx, 0, 1, dy);
-  cv::Mat out;
-  cv::warpAffine(image, out, A, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  return out;
-}
+using testing::Shifted;
 
 double LineDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& s, const Eigen::Vector2d& e) {
   const Eigen::Vector2d d = (e - s).normalized();

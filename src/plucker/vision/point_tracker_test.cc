@@ -15,6 +15,7 @@
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/trajectory_io.h"
+#include "plucker/vision/vision_test_utils.h"
 
 namespace plucker {
 namespace vision {
@@ -34,12 +35,7 @@ cv::Mat Texture(int width, int height, unsigned seed) {
   return image;
 }
 
-cv::Mat Shifted(const cv::Mat& image, double dx, double dy) {
-  const cv::Matx23d A(1, 0, dx, 0, 1, dy);
-  cv::Mat out;
-  cv::warpAffine(image, out, A, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  return out;
-}
+using testing::Shifted;
 
 TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
   const cv::Mat base = Texture(320, 240, 7);
