@@ -171,19 +171,12 @@ int Run(const VoArgs& a) {
   double frame_total = 0.0;
   double last_progress = WallMs();
   for (int i = second + 1; i < n; ++i) {
-    std::array<double, window::kNumWindowStages> ms{};
-    int current = -1;
-    double last = 0.0;
+    BasicStageClock<window::WindowStage, window::kNumWindowStages> ms;
     const double t0 = ThreadCpuMs();
-    const window::FrameResult r = estimator.AddFrame(frames[i], [&](window::WindowStage s) {
-      const double now = ThreadCpuMs();
-      if (current >= 0) ms[current] += now - last;
-      current = s == window::WindowStage::kDone ? -1 : static_cast<int>(s);
-      last = now;
-    });
+    const window::FrameResult r = estimator.AddFrame(frames[i], ms.Observer());
     const double frame_ms = ThreadCpuMs() - t0;
     frame_total += frame_ms;
-    for (int s = 0; s < window::kNumWindowStages; ++s) stage_total[s] += ms[s];
+    for (int s = 0; s < window::kNumWindowStages; ++s) stage_total[s] += ms.ms(s);
     const bool finite =
         r.T_w_c.translation().allFinite() && r.T_w_c.rotation().coeffs().allFinite();
     poses[i] = finite ? r.T_w_c : poses[i - 1];
@@ -193,7 +186,7 @@ int Run(const VoArgs& a) {
     marginalized += r.marginalized_keyframes;
     failed_marginalizations += r.marginalization_failed;
     nlohmann::json times = {{"total", frame_ms}};
-    for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = ms[s];
+    for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = ms.ms(s);
     per_frame[i] = {{"keyframe", r.keyframe},
                     {"tracked_points", r.tracked_points},
                     {"tracked_lines", r.tracked_lines},

@@ -1,10 +1,11 @@
-// The app's clocks for timing the LiDAR odometry (the library reads none): per-stage times of
-// LidarOdometry::ProcessScan taken through its StageObserver.
+// The app's clocks (the libraries read none): per-stage times of an algorithm taken through its
+// stage observer (LiDAR odometry, VO window, image front end).
 #pragma once
 
 #include <array>
 #include <chrono>
 #include <ctime>
+#include <functional>
 
 #include "plucker/lidar/odometry.h"
 
@@ -24,32 +25,37 @@ inline double WallMs() {
       .count();
 }
 
-// Milliseconds per stage of one frame: CPU time of the calling thread when the odometry runs on
-// one thread, wall-clock when it runs on several (the work is spread over threads). Stages
-// visited several times (correspondences and solve, once per association round) add up.
-class StageClock {
+// Milliseconds per stage of one frame of an algorithm that announces its stages to an observer
+// (the LiDAR odometry, the VO window, the image front end; each ends with Stage::kDone): CPU time
+// of the calling thread, or wall-clock when the work is spread over threads. Stages visited
+// several times (e.g. correspondences and solve, once per association round) add up.
+template <typename Stage, int kStages>
+class BasicStageClock {
  public:
-  explicit StageClock(bool wall) : wall_(wall) {}
+  explicit BasicStageClock(bool wall = false) : wall_(wall) {}
 
-  // Pass to ProcessScan; the times of the frame are read after it returns.
-  lidar::StageObserver Observer() {
+  // Pass to the algorithm; the times of the frame are read after it returns.
+  std::function<void(Stage)> Observer() {
     ms_.fill(0.0);
     current_ = -1;
-    return [this](lidar::Stage stage) {
+    return [this](Stage stage) {
       const double now = wall_ ? WallMs() : ThreadCpuMs();
       if (current_ >= 0) ms_[current_] += now - last_;
-      current_ = stage == lidar::Stage::kDone ? -1 : static_cast<int>(stage);
+      current_ = stage == Stage::kDone ? -1 : static_cast<int>(stage);
       last_ = now;
     };
   }
-  double ms(lidar::Stage stage) const { return ms_[static_cast<int>(stage)]; }
+  double ms(Stage stage) const { return ms_[static_cast<int>(stage)]; }
+  double ms(int stage) const { return ms_[stage]; }
 
  private:
   bool wall_;
-  std::array<double, lidar::kNumStages> ms_{};
+  std::array<double, kStages> ms_{};
   int current_ = -1;
   double last_ = 0.0;
 };
+
+using StageClock = BasicStageClock<lidar::Stage, lidar::kNumStages>;
 
 }  // namespace app
 }  // namespace plucker

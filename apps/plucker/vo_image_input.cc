@@ -85,18 +85,11 @@ VoImageInput ReadVoImages(const VoImageSource& s) {
       info["skipped"] = problem;
       in.warnings.push_back(problem);
     } else {
-      std::array<double, vision::kNumFrontendStages> ms{};
-      int current = -1;
-      double last = ThreadCpuMs();
-      const vision::ImageFrontendFrame f = frontend.Process(image, [&](vision::FrontendStage st) {
-        const double now = ThreadCpuMs();
-        if (current >= 0) ms[current] += now - last;
-        current = st == vision::FrontendStage::kDone ? -1 : static_cast<int>(st);
-        last = now;
-      });
+      BasicStageClock<vision::FrontendStage, vision::kNumFrontendStages> ms;
+      const vision::ImageFrontendFrame f = frontend.Process(image, ms.Observer());
       for (int k = 0; k < vision::kNumFrontendStages; ++k) {
-        info["ms"][kFrontendStages[k]] = ms[k];
-        total[k] += ms[k];
+        info["ms"][kFrontendStages[k]] = ms.ms(k);
+        total[k] += ms.ms(k);
       }
       frame.points = f.points;
       frame.segments = f.segments;
