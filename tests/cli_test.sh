@@ -31,6 +31,18 @@ expect() {
 }
 
 expect help 0 "check-jacobians" -- "$PLUCKER" --help
+# The image commands are a module loaded on first use (docs/cli.md): listed by --help, absent from
+# the start of the other commands; without the module the others still run.
+expect help-lists-image-commands 0 "lines .*vo " -- bash -c "'$PLUCKER' --help | tr '\n' ' '"
+expect bench-help-lists-lines 0 "lines +Line detectors" -- "$PLUCKER" bench --help
+expect lidar-starts-without-imgcodecs 0 "^0$" -- bash -c \
+  "LD_DEBUG=files '$PLUCKER' lidar --help 2>&1 >/dev/null | grep -c 'file=libopencv_imgcodecs' || true"
+expect lines-loads-module 0 "file=libopencv_imgcodecs" -- bash -c \
+  "LD_DEBUG=files '$PLUCKER' lines --help 2>&1 >/dev/null"
+cp "$PLUCKER" "$T/plucker-alone"
+expect no-module-lidar-still-runs 0 "--data" -- "$T/plucker-alone" lidar --help
+expect no-module-named nonzero "cannot load plucker_vision_commands.so" -- \
+  "$T/plucker-alone" lines detect --image x.png
 expect check-jacobians 0 "functions checked, 0 failed" -- \
   "$PLUCKER" check-jacobians --samples 20 --seed 1
 expect check-jacobians-json 0 '"failed": 0' -- "$PLUCKER" check-jacobians --samples 5 --json

@@ -17,7 +17,6 @@ namespace app {
 
 void RegisterBenchBundleAdjustment(CLI::App& bench, int* exit_code);  // cmd_bench_ba.cc
 void RegisterBenchLidar(CLI::App& bench, int* exit_code);             // cmd_bench_lidar.cc
-void RegisterBenchLines(CLI::App& bench, int* exit_code);             // cmd_bench_lines.cc
 
 namespace {
 
@@ -103,7 +102,7 @@ void RegisterBench(CLI::App& app, int* exit_code) {
   RegisterBenchFactors(*bench, exit_code);
   RegisterBenchBundleAdjustment(*bench, exit_code);
   RegisterBenchLidar(*bench, exit_code);
-  RegisterBenchLines(*bench, exit_code);
+  // `bench lines` is added by the vision module (vision_commands.cc).
 }
 
 }  // namespace app

@@ -470,7 +470,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   AddEvalImu(eval_cmd, exit_code);
   AddEvalInit(eval_cmd, exit_code);
   RegisterEvalLines(*eval_cmd, exit_code);
-  RegisterEvalTracks(*eval_cmd, exit_code);
+  // `eval tracks` is added by the vision module (vision_commands.cc).
 }
 
 }  // namespace app

@@ -24,5 +24,8 @@ void AddLinesTrack(CLI::App* lines, int* exit_code);      // cmd_lines_track.cc 
 void RegisterEvalTracks(CLI::App& eval, int* exit_code);  // cmd_lines_track.cc (eval tracks)
 void RegisterVo(CLI::App& app, int* exit_code);           // cmd_vo.cc
 
+// `bench lines`, added by the vision module (vision_commands.cc), as the image commands above.
+void RegisterBenchLines(CLI::App& bench, int* exit_code);  // cmd_bench_lines.cc
+
 }  // namespace app
 }  // namespace plucker

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "vision_module.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"plucker: geometric features (points, lines, planes) for SLAM"};
@@ -15,8 +16,11 @@ int main(int argc, char** argv) {
   plucker::app::RegisterEval(app, &exit_code);
   plucker::app::RegisterConfig(app, &exit_code);
   plucker::app::RegisterConvert(app, &exit_code);
-  plucker::app::RegisterLines(app, &exit_code);
-  plucker::app::RegisterVo(app, &exit_code);
+  // The image commands (lines, vo, bench lines, eval tracks; registered in vision_commands.cc)
+  // are a module loaded only when the command line needs it (vision_module.h).
+  if (plucker::app::NeedsVisionCommands(app, argc, argv)) {
+    plucker::app::LoadVisionCommands(app, &exit_code);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -201,8 +201,7 @@ void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points
   if (voxel_size <= 0.0 || points->empty()) return;
   const bool with_times = times != nullptr && times->size() == points->size();
   const double inv = 1.0 / voxel_size;
-  seen->clear();
-  seen->reserve(points->size());
+  seen->clear();  // keeps its buckets: sized by the distinct voxels seen (cache-friendly)
   std::size_t out = 0;
   std::uint64_t last = ~std::uint64_t{0};  // the previous point's voxel (already in `seen`)
   for (std::size_t i = 0; i < points->size(); ++i) {
