@@ -471,6 +471,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   AddEvalInit(eval_cmd, exit_code);
   RegisterEvalLines(*eval_cmd, exit_code);
   RegisterEvalTracks(*eval_cmd, exit_code);
+  RegisterEvalSfm(*eval_cmd, exit_code);
 }
 
 }  // namespace app
