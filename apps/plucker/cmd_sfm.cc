@@ -43,6 +43,7 @@ struct SfmArgs {
   int detect_size = 1536;
   int max_keypoints = 8000;
   int overlays = 3;
+  double line_sigma = 1.5;
   bool quiet = false;
 };
 
@@ -215,6 +216,7 @@ int Run(const SfmArgs& a) {
   sfm::SfmOptions so;
   so.use_lines = !a.no_lines;
   so.max_points = a.max_points;
+  so.line_sigma_px = a.line_sigma;
   BasicStageClock<sfm::SfmStage, sfm::kNumSfmStages> clock(/*wall=*/true);
   const sfm::SfmResult r = sfm::Reconstruct(K, views, so, clock.Observer(), say);
   if (!r.ok) throw io::IoError(a.images, "reconstruction failed: " + r.message);
@@ -267,6 +269,7 @@ int Run(const SfmArgs& a) {
                                  {"lines", !a.no_lines},
                                  {"max_points", a.max_points},
                                  {"detect_size", a.detect_size},
+                                 {"line_sigma_px", a.line_sigma},
                                  {"views", st.views},
                                  {"registered", st.registered},
                                  {"unregistered", unregistered},
@@ -325,6 +328,11 @@ void RegisterSfm(CLI::App& app, int* exit_code) {
                   "SIFT runs on images reduced to this longer side [px] (0: full size)")
       ->capture_default_str();
   cmd->add_option("--max-keypoints", a->max_keypoints, "SIFT keypoints per image")
+      ->capture_default_str();
+  cmd->add_option("--line-sigma", a->line_sigma,
+                  "Standard deviation of the line endpoint distances in the adjustment [px] "
+                  "(points: 1)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--overlays", a->overlays, "Overlay images to write")->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "No progress lines and no closing table");

@@ -488,6 +488,8 @@ class Reconstruction {
     }
     ba::BundleAdjustmentOptions options;
     options.num_fixed_poses = 0;
+    options.point_sigma_px = o_.point_sigma_px;
+    options.line_sigma_px = o_.line_sigma_px;
     options.refine_points = options.refine_lines = false;
     options.huber_threshold = o_.huber_px;
     options.max_iterations = 20;
@@ -644,6 +646,8 @@ class Reconstruction {
     // (holding the second camera too would freeze the essential-matrix pose of the initial pair
     // and bend every other camera to fit it).
     options.num_fixed_poses = 1;
+    options.point_sigma_px = o_.point_sigma_px;
+    options.line_sigma_px = o_.line_sigma_px;
     options.huber_threshold = o_.huber_px;
     options.max_iterations = iterations;
     options.num_threads = o_.num_threads;
