@@ -290,7 +290,7 @@ int Run(const SfmArgs& a) {
                                  {"overlays", overlays},
                                  {"time_ms", stages},
                                  {"per_view", per_view}};
-  std::ofstream((fs::path(a.out) / "report.json").string()) << report.dump(2) << "\n";
+  io::WriteFileAtomically((fs::path(a.out) / "report.json").string(), report.dump(2) + "\n");
 
   if (!a.quiet) {
     std::printf("%-28s %s\n", "views", std::to_string(st.views).c_str());
