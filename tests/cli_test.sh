@@ -306,5 +306,63 @@ expect vo-two-sources nonzero "excludes" -- \
 expect vo-no-source nonzero "give --features DIR or --images DIR" -- \
   "$PLUCKER" vo --out "$T/vo_x.txt"
 
+# plucker sfm: bad input (small images made here; each case fails or skips a view, naming the file).
+mkdir -p "$T/sfm_img" "$T/sfm_one" "$T/sfm_mixed" "$T/sfm_none" "$T/sfm_user"
+pgm_box > "$T/sfm_img/a.pgm"
+pgm_box > "$T/sfm_img/b.pgm"
+pgm_box > "$T/sfm_img/c.pgm"
+echo "not an image" > "$T/sfm_img/d.png"
+pgm_box > "$T/sfm_one/a.pgm"
+pgm_box > "$T/sfm_mixed/a.pgm"
+pgm_box > "$T/sfm_mixed/b.pgm"
+printf 'P5\n40 30\n255\n' > "$T/sfm_mixed/c.pgm"
+head -c 1200 /dev/zero | tr '\0' '\200' >> "$T/sfm_mixed/c.pgm"
+printf '100 0 40\n0 100 30\n0 0 1\n' > "$T/sfm_K.txt"
+printf '100 0 40\n0 x 30\n0 0 1\n' > "$T/sfm_K_bad.txt"
+printf '0 0 40\n0 100 30\n0 0 1\n' > "$T/sfm_K_zero.txt"
+echo keep > "$T/sfm_user/notes.txt"
+expect sfm-help 0 "--max-points" -- "$PLUCKER" sfm --help
+expect sfm-missing-folder nonzero "$T/nothing" -- \
+  "$PLUCKER" sfm --images "$T/nothing" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
+expect sfm-no-images nonzero "sfm_none" -- \
+  "$PLUCKER" sfm --images "$T/sfm_none" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
+expect sfm-too-few-images nonzero "needs at least 2 readable images" -- \
+  "$PLUCKER" sfm --images "$T/sfm_one" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
+expect sfm-no-calibration nonzero "give exactly one of --intrinsics" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --out "$T/sfm_out"
+expect sfm-two-calibrations nonzero "give exactly one of --intrinsics" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --calib "$T/sfm_K.txt" \
+  --out "$T/sfm_out"
+expect sfm-calibration-does-not-parse nonzero "sfm_K_bad.txt" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K_bad.txt" --out "$T/sfm_out"
+expect sfm-zero-focal-length nonzero "sfm_K_zero.txt.*focal" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K_zero.txt" --out "$T/sfm_out"
+expect sfm-missing-calibration nonzero "no_K.txt" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/no_K.txt" --out "$T/sfm_out"
+expect sfm-unreadable-image-skipped nonzero "warning: skipped .*d.png" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
+expect sfm-no-texture-no-matches nonzero "reconstruction failed: no pair of views" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out" --quiet
+expect sfm-mixed-sizes nonzero "skipped .*c.pgm: size 40x30 differs from the first image's 80x60" -- \
+  "$PLUCKER" sfm --images "$T/sfm_mixed" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
+expect sfm-refuses-user-folder nonzero "sfm_user: is not empty and not a previous" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_user"
+expect sfm-no-output-after-failure 0 "^absent$" -- \
+  bash -c "[ -e '$T/sfm_out/poses.txt' ] && echo present || echo absent"
+printf '1 0 0 0 0 1 0 0 0 0 1 0\nnan nan nan nan nan nan nan nan nan nan nan nan\n' > "$T/sfm_gaps.txt"
+expect eval-sfm-missing-gt nonzero "no_cameras" -- \
+  "$PLUCKER" eval sfm --gt "$T/no_cameras" --est "$T/sfm_gaps.txt"
+
+if [ -f "$T/strecha_gt.txt" ]; then
+  # The ground truth as an estimate, one view unregistered: zero error, 10 of 11 compared.
+  sed '4s/.*/nan nan nan nan nan nan nan nan nan nan nan nan/' "$T/strecha_gt.txt" > "$T/sfm_gt_gap.txt"
+  expect eval-sfm-ground-truth 0 "registered 10.*median 0.00 mm" -- \
+    bash -c "'$PLUCKER' eval sfm --gt '$STRECHA' --est '$T/sfm_gt_gap.txt' | tr '\n' ' '"
+  expect eval-sfm-json 0 '"registered": 10' -- \
+    "$PLUCKER" eval sfm --gt "$STRECHA/.." --est "$T/sfm_gt_gap.txt" --json
+  expect eval-sfm-wrong-count nonzero "sfm_gaps.txt: the estimate has 2 cameras, the ground truth 11" -- \
+    "$PLUCKER" eval sfm --gt "$STRECHA" --est "$T/sfm_gaps.txt"
+fi
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -23,6 +23,8 @@ void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.c
 void AddLinesTrack(CLI::App* lines, int* exit_code);      // cmd_lines_track.cc (lines match|track)
 void RegisterEvalTracks(CLI::App& eval, int* exit_code);  // cmd_lines_track.cc (eval tracks)
 void RegisterVo(CLI::App& app, int* exit_code);           // cmd_vo.cc
+void RegisterSfm(CLI::App& app, int* exit_code);          // cmd_sfm.cc
+void RegisterEvalSfm(CLI::App& eval, int* exit_code);     // cmd_eval_sfm.cc (eval sfm)
 
 // `bench lines`, added by the vision module (vision_commands.cc), as the image commands above.
 void RegisterBenchLines(CLI::App& bench, int* exit_code);  // cmd_bench_lines.cc

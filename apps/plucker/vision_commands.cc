@@ -9,6 +9,7 @@ extern "C" void PluckerRegisterVisionCommands(CLI::App* app, int* exit_code) {
   using namespace plucker::app;
   RegisterLines(*app, exit_code);
   RegisterVo(*app, exit_code);
+  RegisterSfm(*app, exit_code);
   RegisterBenchLines(*app->get_subcommand("bench"), exit_code);
   RegisterEvalTracks(*app->get_subcommand("eval"), exit_code);
 }

@@ -239,5 +239,20 @@ LidarScan ReadPly(const std::string& path, ScanReadStats* stats) {
   return ParsePly(ReadFileToString(path), path, stats);
 }
 
+void WriteSegmentsPly(const std::string& path,
+                      const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& segments) {
+  std::ostringstream out;
+  out << "ply\nformat ascii 1.0\nelement vertex " << 2 * segments.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement edge " << segments.size()
+      << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  out.precision(9);
+  for (const auto& [a, b] : segments) {
+    out << a.x() << ' ' << a.y() << ' ' << a.z() << '\n';
+    out << b.x() << ' ' << b.y() << ' ' << b.z() << '\n';
+  }
+  for (std::size_t i = 0; i < segments.size(); ++i) out << 2 * i << ' ' << 2 * i + 1 << '\n';
+  WriteFileAtomically(path, out.str());
+}
+
 }  // namespace io
 }  // namespace plucker

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plucker/io/io_error.h"
@@ -25,6 +26,12 @@ void WritePly(const std::string& path, const std::vector<Eigen::Vector3d>& point
               PlyFormat format = PlyFormat::kBinaryLittleEndian);
 void WritePly(const std::string& path, const LidarScan& cloud,
               PlyFormat format = PlyFormat::kBinaryLittleEndian);
+// 3D line segments as an ASCII .ply: two vertices per segment (x y z, float) and an `edge` element
+// (vertex1 vertex2), which MeshLab and CloudCompare draw as lines. (The reader above does not read
+// it back.) Atomic; IoError on a write failure.
+void WriteSegmentsPly(const std::string& path,
+                      const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& segments);
+
 std::string SerializePly(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<float>& intensity, PlyFormat format);
 

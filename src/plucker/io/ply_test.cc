@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "plucker/io/io_test_utils.h"
 
@@ -64,6 +66,23 @@ TEST(Ply, ReadsOtherPropertiesAndTrailingElements) {
   ASSERT_EQ(cloud.size(), 1u);
   EXPECT_EQ(cloud.points[0], Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(stats.non_finite_dropped, 1u);
+}
+
+TEST(Ply, SegmentsAsVertexPairsAndEdges) {
+  testing::ScratchDir dir;
+  const std::string path = (dir / "lines.ply").string();
+  WriteSegmentsPly(path, {{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 2, 3)},
+                          {Eigen::Vector3d(-1, 0.5, 2), Eigen::Vector3d(4, 5, 6)}});
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string t = text.str();
+  EXPECT_NE(t.find("element vertex 4\n"), std::string::npos) << t;
+  EXPECT_NE(t.find("element edge 2\n"), std::string::npos) << t;
+  EXPECT_NE(t.find("end_header\n0 0 0\n1 2 3\n-1 0.5 2\n4 5 6\n0 1\n2 3\n"), std::string::npos)
+      << t;
+  // The vertices read back with the point reader (the edge element after them is ignored).
+  EXPECT_EQ(ReadPly(path).points.size(), 4u);
 }
 
 TEST(Ply, Errors) {

@@ -1,5 +1,7 @@
 #include "plucker/io/trajectory_io.h"
 
+#include <algorithm>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -249,6 +251,48 @@ TrajectoryFormat ParseTrajectoryFormat(const std::string& name) {
   if (name == "tum") return TrajectoryFormat::kTum;
   throw std::invalid_argument("unknown trajectory format '" + name +
                               "' (expected auto, kitti or tum)");
+}
+
+std::vector<std::optional<SE3d>> ReadKittiPosesWithGaps(const std::string& path) {
+  const std::string text = ReadWholeFile(path);
+  std::vector<std::optional<SE3d>> poses;
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> fields;
+  std::vector<double> values(12);
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!SplitFields(line, &fields)) continue;
+    if (fields.size() != 12) {
+      throw TrajectoryParseError(path, line_no,
+                                 std::to_string(fields.size()) + " fields, expected 12 (kitti)");
+    }
+    const bool gap = std::all_of(fields.begin(), fields.end(), [](const std::string& f) {
+      return f == "nan" || f == "NaN" || f == "NAN" || f == "-nan";
+    });
+    if (gap) {
+      poses.emplace_back(std::nullopt);
+      continue;
+    }
+    for (int i = 0; i < 12; ++i) values[i] = ParseNumber(fields[i], path, line_no, i);
+    poses.emplace_back(KittiPose(values, path, line_no));
+  }
+  if (poses.empty()) throw IoError(path, "empty file: no poses");
+  return poses;
+}
+
+void WriteKittiPosesWithGaps(const std::string& path,
+                             const std::vector<std::optional<SE3d>>& poses) {
+  std::string out;
+  for (const auto& T : poses) {
+    if (T) {
+      out += KittiLine(*T);
+    } else {
+      out += "nan nan nan nan nan nan nan nan nan nan nan nan\n";
+    }
+  }
+  WriteFileAtomically(path, out);
 }
 
 }  // namespace io

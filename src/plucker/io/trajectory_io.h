@@ -10,6 +10,7 @@
 // zero or far-from-unit rejected), decreasing TUM timestamps, and an empty file.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,13 @@ void WriteKittiPoses(const std::string& path, const std::vector<SE3d>& poses);
 // IoError (also if the sizes differ).
 void WriteTumTrajectory(const std::string& path, const std::vector<double>& times,
                         const std::vector<SE3d>& poses);
+
+// KITTI poses of a set of cameras of which some may be missing (e.g. views a reconstruction did
+// not register): a missing camera is a line of twelve `nan`. Same errors as ReadTrajectory
+// otherwise (a NaN among numbers is rejected).
+std::vector<std::optional<SE3d>> ReadKittiPosesWithGaps(const std::string& path);
+void WriteKittiPosesWithGaps(const std::string& path,
+                             const std::vector<std::optional<SE3d>>& poses);
 
 // Reads a KITTI times.txt (one number a line, non-decreasing). Throws IoError.
 std::vector<double> ReadTimes(const std::string& path);

@@ -72,6 +72,36 @@ TEST(TrajectoryIo, KittiRoundTripIsExact) {
   }
 }
 
+TEST(TrajectoryIo, KittiPosesWithGapsRoundTrip) {
+  verify::Rng rng(4);
+  std::vector<std::optional<SE3d>> poses = {verify::RandomPose(rng), std::nullopt,
+                                            verify::RandomPose(rng), std::nullopt};
+  const std::string path = TempPath("gaps");
+  WriteKittiPosesWithGaps(path, poses);
+  const std::vector<std::optional<SE3d>> back = ReadKittiPosesWithGaps(path);
+  ASSERT_EQ(back.size(), 4u);
+  int compared = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    ASSERT_EQ(back[i].has_value(), poses[i].has_value()) << i;
+    if (!poses[i]) continue;
+    EXPECT_LT((back[i]->Matrix() - poses[i]->Matrix()).cwiseAbs().maxCoeff(), 1e-14);
+    ++compared;
+  }
+  EXPECT_EQ(compared, 2);
+  // A NaN among numbers is not a gap, and a wrong field count names the line.
+  std::ofstream(path) << "1 0 0 0 0 1 0 0 0 0 1 nan\n";
+  EXPECT_THROW(ReadKittiPosesWithGaps(path), IoError);
+  std::ofstream(path) << kKittiIdentity << "nan nan nan\n";
+  try {
+    ReadKittiPosesWithGaps(path);
+    ADD_FAILURE() << "no error";
+  } catch (const TrajectoryParseError& e) {
+    EXPECT_EQ(e.line(), 2) << e.what();
+  }
+  std::remove(path.c_str());
+  EXPECT_THROW(ReadKittiPosesWithGaps(path), IoError);  // missing
+}
+
 TEST(TrajectoryIo, TumRoundTripIsExact) {
   verify::Rng rng(4);
   std::vector<SE3d> poses;

@@ -1,0 +1,350 @@
+// plucker sfm: incremental reconstruction of a folder of calibrated images with points and lines
+// (src/plucker/sfm/incremental_reconstruction.h). The app reads the images and the calibration,
+// extracts the features of each image, runs the reconstruction, times every stage and writes
+//   OUTDIR/poses.txt    KITTI, one T_w_c per image in name order (12 `nan` when unregistered)
+//   OUTDIR/points.ply   3D points;  OUTDIR/lines.ply  3D segments (vertex pairs + edges)
+//   OUTDIR/report.json  views, registration status, tracks, reprojection errors, time per stage
+//   OUTDIR/overlay_<image>.png  detected (blue), matched (green) and reprojected (red) segments
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "commands.h"
+#include "plucker/geometry/point_projection.h"
+#include "plucker/io/camera_calibration.h"
+#include "plucker/io/image_folder.h"
+#include "plucker/io/io_error.h"
+#include "plucker/io/ply.h"
+#include "plucker/io/trajectory_io.h"
+#include "plucker/sfm/incremental_reconstruction.h"
+#include "plucker/vision/undistort.h"
+#include "stage_clock.h"
+
+namespace plucker {
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SfmArgs {
+  std::string images, intrinsics, calib, sensor, out;
+  bool no_lines = false;
+  int max_points = 0;
+  int detect_size = 1536;
+  int max_keypoints = 8000;
+  int overlays = 3;
+  double line_sigma = 1.5;
+  bool quiet = false;
+};
+
+constexpr const char* kMarker = "plucker sfm";
+
+// OUTDIR must be absent, empty, or a previous output of this command (its report.json says so).
+void CheckOutputFolder(const std::string& out) {
+  if (!fs::exists(out)) return;
+  if (!fs::is_directory(out)) throw io::IoError(out, "exists and is not a folder");
+  if (fs::is_empty(out)) return;
+  std::ifstream in(fs::path(out) / "report.json");
+  nlohmann::json j;
+  try {
+    if (in) j = nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+  }
+  if (!j.is_object() || j.value("command", "") != kMarker) {
+    throw io::IoError(out,
+                      "is not empty and not a previous `plucker sfm` output; refusing to "
+                      "overwrite it (give another --out)");
+  }
+}
+
+struct Calibration {
+  sensor::Camera camera;  // as read (may be distorted)
+  std::optional<vision::Undistorter> undistorter;
+};
+
+Calibration ReadCalibration(const SfmArgs& a, int width, int height) {
+  const int given = !a.intrinsics.empty() + !a.calib.empty() + !a.sensor.empty();
+  if (given != 1) {
+    throw std::invalid_argument(
+        "give exactly one of --intrinsics K.txt, --calib calib.txt or --sensor sensor.yaml");
+  }
+  Calibration c;
+  if (!a.intrinsics.empty()) c.camera = io::ReadStrechaIntrinsics(a.intrinsics, width, height);
+  if (!a.calib.empty()) c.camera = io::ReadKittiCalibration(a.calib, width, height).camera;
+  if (!a.sensor.empty()) {
+    c.camera = io::ReadEurocCamera(a.sensor).camera;
+    if (c.camera.width != width || c.camera.height != height) {
+      throw io::IoError(a.sensor, "resolution " + std::to_string(c.camera.width) + "x" +
+                                      std::to_string(c.camera.height) + " differs from the " +
+                                      "images' " + std::to_string(width) + "x" +
+                                      std::to_string(height));
+    }
+    if (!c.camera.IsPinhole()) c.undistorter.emplace(c.camera);
+  }
+  return c;
+}
+
+std::string Fixed(double x, int digits = 2) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << x;
+  return s.str();
+}
+
+cv::Point2d Pt(const Eigen::Vector2d& p, double s) { return {p.x() * s, p.y() * s}; }
+
+// Detected segments (blue), segments of reconstructed lines (green) and the reprojected 3D
+// segments (red), drawn on the image reduced to a longer side of at most 1536 px.
+void WriteOverlay(const std::string& path, const cv::Mat& gray, const sfm::ViewFeatures& f,
+                  int view, const PinholeIntrinsics& K, const SE3d& T_w_c,
+                  const std::vector<sfm::SfmLine>& lines) {
+  const double s = std::min(1.0, 1536.0 / std::max(gray.cols, gray.rows));
+  cv::Mat small, canvas;
+  cv::resize(gray, small, cv::Size(), s, s, cv::INTER_AREA);
+  cv::cvtColor(small, canvas, cv::COLOR_GRAY2BGR);
+  for (const vision::Segment2d& seg : f.lines.segments)
+    cv::line(canvas, Pt(seg.head<2>(), s), Pt(seg.tail<2>(), s), cv::Scalar(255, 128, 0), 1,
+             cv::LINE_AA);
+  for (const sfm::SfmLine& l : lines) {
+    for (const auto& [v, i] : l.observations) {
+      if (v != view) continue;
+      const vision::Segment2d& seg = f.lines.segments[i];
+      cv::line(canvas, Pt(seg.head<2>(), s), Pt(seg.tail<2>(), s), cv::Scalar(0, 200, 0), 2,
+               cv::LINE_AA);
+      const auto a = ProjectPoint(K, T_w_c, l.start_w), b = ProjectPoint(K, T_w_c, l.end_w);
+      if (a && b) cv::line(canvas, Pt(*a, s), Pt(*b, s), cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+    }
+  }
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, canvas);
+  } catch (const cv::Exception& e) {
+    throw io::IoError(path, std::string("cannot write the overlay: ") + e.what());
+  }
+  if (!ok) throw io::IoError(path, "cannot write the overlay");
+}
+
+struct Loaded {
+  std::vector<std::string> files;
+  std::vector<cv::Mat> images;       // empty when skipped
+  std::vector<std::string> skipped;  // "file: reason"
+  io::ImageSize size;
+};
+
+// Reads every image; an unreadable one or one of another size than the first readable image is
+// skipped (named). Throws IoError when fewer than two images remain.
+Loaded LoadImages(const std::string& dir) {
+  Loaded l;
+  l.files = io::ListImageFiles(dir);
+  for (const std::string& file : l.files) {
+    cv::Mat image;
+    try {
+      image = io::ReadGrayImage(file);
+    } catch (const io::IoError& e) {
+      l.skipped.push_back(e.what());
+      l.images.emplace_back();
+      continue;
+    }
+    if (l.size.width == 0) l.size = {image.cols, image.rows};
+    if (image.cols != l.size.width || image.rows != l.size.height) {
+      l.skipped.push_back(file + ": size " + std::to_string(image.cols) + "x" +
+                          std::to_string(image.rows) + " differs from the first image's " +
+                          std::to_string(l.size.width) + "x" + std::to_string(l.size.height));
+      image.release();
+    }
+    l.images.push_back(image);
+  }
+  const long readable =
+      std::count_if(l.images.begin(), l.images.end(), [](const cv::Mat& m) { return !m.empty(); });
+  if (readable < 2) {
+    throw io::IoError(
+        dir, "needs at least 2 readable images of one size, has " + std::to_string(readable));
+  }
+  return l;
+}
+
+int Run(const SfmArgs& a) {
+  const double t_start = WallMs();
+  const auto say = [&](const std::string& m) {
+    if (!a.quiet) std::cerr << "plucker sfm: " << m << "\n";
+  };
+  CheckOutputFolder(a.out);
+  if (a.max_points < 0) throw std::invalid_argument("--max-points must be >= 0");
+  Loaded in = LoadImages(a.images);
+  for (const std::string& s : in.skipped)
+    std::cerr << "plucker sfm: warning: skipped " << s << "\n";
+  Calibration calib = ReadCalibration(a, in.size.width, in.size.height);
+  const PinholeIntrinsics K =
+      calib.undistorter ? calib.undistorter->ideal_camera().K : calib.camera.K;
+  const double read_ms = WallMs() - t_start;
+
+  // Features.
+  sfm::FeatureOptions fo;
+  fo.detection_max_side = a.detect_size;
+  fo.max_keypoints = a.max_keypoints;
+  fo.detect_lines = !a.no_lines;
+  const int n = static_cast<int>(in.files.size());
+  std::vector<sfm::ViewFeatures> views(n);
+  const double t_features = WallMs();
+  for (int i = 0; i < n; ++i) {
+    if (in.images[i].empty()) continue;
+    if (calib.undistorter) in.images[i] = calib.undistorter->Undistort(in.images[i]);
+    const double t0 = WallMs();
+    views[i] = sfm::ExtractFeatures(in.images[i], fo);
+    say("features " + std::to_string(i + 1) + "/" + std::to_string(n) + " " +
+        fs::path(in.files[i]).filename().string() + ": " +
+        std::to_string(views[i].keypoints.size()) + " keypoints, " +
+        std::to_string(views[i].lines.size()) + " segments (" + Fixed((WallMs() - t0) / 1e3, 1) +
+        " s)");
+    if (views[i].keypoints.empty()) {
+      std::cerr << "plucker sfm: warning: " << in.files[i]
+                << ": no keypoints (no texture?); the view is skipped\n";
+    }
+  }
+  const double features_ms = WallMs() - t_features;
+
+  // Reconstruction.
+  sfm::SfmOptions so;
+  so.use_lines = !a.no_lines;
+  so.max_points = a.max_points;
+  so.line_sigma_px = a.line_sigma;
+  BasicStageClock<sfm::SfmStage, sfm::kNumSfmStages> clock(/*wall=*/true);
+  const sfm::SfmResult r = sfm::Reconstruct(K, views, so, clock.Observer(), say);
+  if (!r.ok) throw io::IoError(a.images, "reconstruction failed: " + r.message);
+
+  // Outputs.
+  const double t_write = WallMs();
+  fs::create_directories(a.out);
+  io::WriteKittiPosesWithGaps((fs::path(a.out) / "poses.txt").string(), r.T_w_c);
+  std::vector<Eigen::Vector3d> points;
+  for (const sfm::SfmPoint& p : r.points) points.push_back(p.p_w);
+  io::WritePly((fs::path(a.out) / "points.ply").string(), points);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+  for (const sfm::SfmLine& l : r.lines) segments.emplace_back(l.start_w, l.end_w);
+  io::WriteSegmentsPly((fs::path(a.out) / "lines.ply").string(), segments);
+  std::vector<int> registered;
+  for (int i = 0; i < n; ++i)
+    if (r.T_w_c[i]) registered.push_back(i);
+  nlohmann::json overlays = nlohmann::json::array();
+  if (!a.no_lines && a.overlays > 0 && !registered.empty()) {
+    const int m = std::min<int>(a.overlays, registered.size());
+    for (int k = 0; k < m; ++k) {
+      const int i = registered[m == 1 ? 0 : k * (registered.size() - 1) / (m - 1)];
+      const std::string name = "overlay_" + fs::path(in.files[i]).stem().string() + ".png";
+      WriteOverlay((fs::path(a.out) / name).string(), in.images[i], views[i], i, K, *r.T_w_c[i],
+                   r.lines);
+      overlays.push_back(name);
+    }
+  }
+  const double write_ms = WallMs() - t_write;
+  const double total_ms = WallMs() - t_start;
+
+  nlohmann::json per_view = nlohmann::json::array();
+  nlohmann::json unregistered = nlohmann::json::array();
+  for (int i = 0; i < n; ++i) {
+    per_view.push_back({{"image", fs::path(in.files[i]).filename().string()},
+                        {"registered", r.T_w_c[i].has_value()},
+                        {"status", r.view_status[i]},
+                        {"keypoints", views[i].keypoints.size()},
+                        {"segments", views[i].lines.size()}});
+    if (!r.T_w_c[i]) unregistered.push_back(fs::path(in.files[i]).filename().string());
+  }
+  nlohmann::json stages = {{"read", read_ms}, {"features", features_ms}};
+  for (int s = 0; s < sfm::kNumSfmStages; ++s)
+    stages[sfm::ToString(static_cast<sfm::SfmStage>(s))] = clock.ms(s);
+  stages["write"] = write_ms;
+  stages["total"] = total_ms;
+  const sfm::SfmStatistics& st = r.stats;
+  const nlohmann::json report = {{"command", kMarker},
+                                 {"images", a.images},
+                                 {"lines", !a.no_lines},
+                                 {"max_points", a.max_points},
+                                 {"detect_size", a.detect_size},
+                                 {"line_sigma_px", a.line_sigma},
+                                 {"views", st.views},
+                                 {"registered", st.registered},
+                                 {"unregistered", unregistered},
+                                 {"skipped", in.skipped},
+                                 {"verified_pairs", st.verified_pairs},
+                                 {"initial_pair", {st.init_a, st.init_b}},
+                                 {"point_tracks", st.point_tracks},
+                                 {"points", st.points},
+                                 {"lines_3d", st.lines},
+                                 {"point_observations", st.point_observations},
+                                 {"line_observations", st.line_observations},
+                                 {"mean_point_error_px", st.mean_point_error_px},
+                                 {"mean_line_error_px", st.mean_line_error_px},
+                                 {"rejected_point_observations", st.rejected_point_observations},
+                                 {"rejected_line_observations", st.rejected_line_observations},
+                                 {"adjustments", st.adjustments},
+                                 {"line_refined_registrations", st.line_refined_registrations},
+                                 {"overlays", overlays},
+                                 {"time_ms", stages},
+                                 {"per_view", per_view}};
+  io::WriteFileAtomically((fs::path(a.out) / "report.json").string(), report.dump(2) + "\n");
+
+  if (!a.quiet) {
+    std::printf("%-28s %s\n", "views", std::to_string(st.views).c_str());
+    std::printf("%-28s %d\n", "registered", st.registered);
+    for (const auto& u : unregistered)
+      std::printf("%-28s %s\n", "  unregistered", u.get<std::string>().c_str());
+    std::printf("%-28s %d (of %d tracks)\n", "points", st.points, st.point_tracks);
+    std::printf("%-28s %d\n", "lines", st.lines);
+    std::printf("%-28s %.3f px\n", "point reprojection error", st.mean_point_error_px);
+    std::printf("%-28s %.3f px\n", "line reprojection error", st.mean_line_error_px);
+    for (const auto& [k, v] : stages.items())
+      std::printf("time %-23s %.1f s\n", k.c_str(), v.get<double>() / 1e3);
+    std::printf("output in %s\n", a.out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void RegisterSfm(CLI::App& app, int* exit_code) {
+  auto a = std::make_shared<SfmArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "sfm",
+      "Reconstruct cameras, 3D points and 3D line segments from a folder of calibrated images");
+  cmd->add_option("--images", a->images, "Folder of images (image files in name order)")
+      ->required();
+  cmd->add_option("--intrinsics", a->intrinsics, "Strecha K.txt (undistorted images)");
+  cmd->add_option("--calib", a->calib, "KITTI calib.txt (P0; rectified images)");
+  cmd->add_option("--sensor", a->sensor, "EuRoC sensor.yaml (images are undistorted first)");
+  cmd->add_option("--out", a->out, "Output folder")->required();
+  cmd->add_flag("--no-lines", a->no_lines, "Points only");
+  cmd->add_option("--max-points", a->max_points, "Use at most N point tracks (0: all)")
+      ->capture_default_str();
+  cmd->add_option("--detect-size", a->detect_size,
+                  "SIFT runs on images reduced to this longer side [px] (0: full size)")
+      ->capture_default_str();
+  cmd->add_option("--max-keypoints", a->max_keypoints, "SIFT keypoints per image")
+      ->capture_default_str();
+  cmd->add_option("--line-sigma", a->line_sigma,
+                  "Standard deviation of the line endpoint distances in the adjustment [px] "
+                  "(points: 1)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--overlays", a->overlays, "Overlay images to write")->capture_default_str();
+  cmd->add_flag("--quiet", a->quiet, "No progress lines and no closing table");
+  cmd->callback([a, exit_code]() {
+    try {
+      *exit_code = Run(*a);
+    } catch (const std::exception& e) {
+      std::cerr << "plucker sfm: error: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
+
+}  // namespace app
+}  // namespace plucker

@@ -1,0 +1,820 @@
+#include "plucker/sfm/incremental_reconstruction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "plucker/ba/bundle_adjustment.h"
+#include "plucker/geometry/point_projection.h"
+
+namespace plucker {
+namespace sfm {
+
+const char* ToString(SfmStage stage) {
+  switch (stage) {
+    case SfmStage::kMatching:
+      return "matching";
+    case SfmStage::kInitialization:
+      return "initialization";
+    case SfmStage::kRegistration:
+      return "registration";
+    case SfmStage::kTriangulation:
+      return "triangulation";
+    case SfmStage::kLines:
+      return "lines";
+    case SfmStage::kAdjustment:
+      return "adjustment";
+    case SfmStage::kDone:
+      return "done";
+  }
+  return "?";
+}
+
+vision::LineMatcherOptions SfmOptions::DefaultLineMatcher() {
+  vision::LineMatcherOptions o;
+  o.max_midpoint_distance_px = 0.0;  // wide baselines: the epipolar gate locates instead
+  o.max_angle_deg = 30.0;
+  o.max_hamming = 60;
+  o.min_epipolar_overlap = 0.5;
+  return o;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Features.
+
+ViewFeatures ExtractFeatures(const cv::Mat& gray, const FeatureOptions& options) {
+  if (gray.empty() || gray.type() != CV_8UC1)
+    throw std::invalid_argument("ExtractFeatures: needs a non-empty CV_8UC1 image");
+  ViewFeatures f;
+  f.width = gray.cols;
+  f.height = gray.rows;
+  cv::Mat small = gray;
+  const int side = std::max(gray.cols, gray.rows);
+  if (options.detection_max_side > 0 && side > options.detection_max_side) {
+    const double s = static_cast<double>(options.detection_max_side) / side;
+    cv::resize(gray, small,
+               cv::Size(std::max(1, static_cast<int>(std::lround(gray.cols * s))),
+                        std::max(1, static_cast<int>(std::lround(gray.rows * s)))),
+               0, 0, cv::INTER_AREA);
+  }
+  const double sx = static_cast<double>(gray.cols) / small.cols;
+  const double sy = static_cast<double>(gray.rows) / small.rows;
+  std::vector<cv::KeyPoint> kps;
+  cv::SIFT::create(options.max_keypoints)
+      ->detectAndCompute(small, cv::noArray(), kps, f.descriptors);
+  f.keypoints.reserve(kps.size());
+  for (const cv::KeyPoint& k : kps)  // pixel centres: u = (u' + 0.5) s - 0.5
+    f.keypoints.emplace_back((k.pt.x + 0.5) * sx - 0.5, (k.pt.y + 0.5) * sy - 0.5);
+  if (f.descriptors.type() != CV_32F && !f.descriptors.empty())
+    f.descriptors.convertTo(f.descriptors, CV_32F);
+
+  if (options.detect_lines) {
+    std::vector<vision::Segment2d> segs =
+        vision::DetectLineSegments(gray, options.line_detector).segments;
+    auto length = [](const vision::Segment2d& s) { return (s.head<2>() - s.tail<2>()).norm(); };
+    segs.erase(std::remove_if(segs.begin(), segs.end(),
+                              [&](const vision::Segment2d& s) {
+                                return length(s) < options.min_line_length_px;
+                              }),
+               segs.end());
+    std::stable_sort(segs.begin(), segs.end(),
+                     [&](const auto& a, const auto& b) { return length(a) > length(b); });
+    if (options.max_lines > 0 && static_cast<int>(segs.size()) > options.max_lines)
+      segs.resize(options.max_lines);
+    vision::LineDescriberOptions describe;
+    describe.min_length_px = options.min_line_length_px * 0.5;
+    f.lines = vision::DescribeLines(gray, segs, describe);
+  }
+  return f;
+}
+
+namespace {
+
+using Obs = std::pair<int, int>;  // (view, feature index)
+
+struct VerifiedPair {
+  int a = -1, b = -1;
+  std::vector<std::pair<int, int>> matches;  // keypoint indices (a, b), essential inliers
+  SE3d T_b_a;                                // |t| = 1
+  double median_angle_deg = 0.0;
+};
+
+struct PointTrack {
+  std::vector<Obs> obs;
+  std::vector<char> outlier;
+  bool has_point = false;
+  bool dead = false;  // rejected after triangulation: not tried again
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+};
+
+struct LineTrack {
+  std::vector<Obs> obs;
+  std::vector<char> outlier;
+  bool has_line = false;
+  bool dead = false;
+  int tried_views = 0;  // observation count at the last failed triangulation
+  Line6d L_w = Line6d::Zero();
+  Eigen::Vector3d start_w = Eigen::Vector3d::Zero(), end_w = Eigen::Vector3d::Zero();
+};
+
+// Union-find over integer nodes.
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int Find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void Union(int a, int b) { parent[Find(a)] = Find(b); }
+};
+
+Eigen::Vector2d Normalized(const PinholeIntrinsics& K, const Eigen::Vector2d& uv) {
+  return K.ToNormalized<double>(uv);
+}
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& t) {
+  Eigen::Matrix3d s;
+  s << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+  return s;
+}
+
+// Nearest neighbours of a in b with the ratio test; each b in at most one match (the closest).
+std::vector<std::pair<int, int>> MatchDescriptors(const cv::Mat& a, const cv::Mat& b,
+                                                  double ratio) {
+  std::vector<std::pair<int, int>> out;
+  if (a.rows < 2 || b.rows < 2) return out;
+  cv::FlannBasedMatcher matcher(cv::makePtr<cv::flann::KDTreeIndexParams>(4),
+                                cv::makePtr<cv::flann::SearchParams>(64));
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(a, b, knn, 2);
+  std::map<int, std::pair<float, int>> best_for_b;
+  for (const auto& m : knn) {
+    if (m.size() < 2 || m[0].distance >= ratio * m[1].distance) continue;
+    auto it = best_for_b.find(m[0].trainIdx);
+    if (it == best_for_b.end() || m[0].distance < it->second.first)
+      best_for_b[m[0].trainIdx] = {m[0].distance, m[0].queryIdx};
+  }
+  for (const auto& [bi, v] : best_for_b) out.emplace_back(v.second, bi);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+class Reconstruction {
+ public:
+  Reconstruction(const PinholeIntrinsics& K, const std::vector<ViewFeatures>& views,
+                 const SfmOptions& options, const SfmObserver& observer,
+                 const SfmProgress& progress)
+      : K_(K), views_(views), o_(options), observer_(observer), progress_(progress) {
+    const int n = static_cast<int>(views.size());
+    pose_.assign(n, std::nullopt);
+    status_.assign(n, "not registered");
+    failed_count_.assign(n, 0);
+    kp_track_.resize(n);
+    seg_track_.resize(n);
+    for (int v = 0; v < n; ++v) {
+      kp_track_[v].assign(views[v].keypoints.size(), -1);
+      seg_track_[v].assign(views[v].lines.size(), -1);
+      if (views[v].keypoints.empty()) status_[v] = "no features (unreadable or no texture)";
+    }
+  }
+
+  SfmResult Run() {
+    SfmResult r;
+    r.stats.views = static_cast<int>(views_.size());
+    Announce(SfmStage::kMatching);
+    MatchAllPairs();
+    BuildPointTracks();
+    r.stats.verified_pairs = static_cast<int>(pairs_.size());
+    r.stats.point_tracks = point_tracks_total_;
+    Announce(SfmStage::kInitialization);
+    std::string why;
+    if (!Initialize(&why)) {
+      Announce(SfmStage::kDone);
+      r.message = why;
+      return Finish(std::move(r));
+    }
+    Adjust(o_.local_iterations);
+    while (RegisterNext()) {
+    }
+    Announce(SfmStage::kAdjustment);
+    Adjust(o_.final_iterations);
+    if (RejectOutliers() > 0) Adjust(o_.final_iterations);
+    RejectOutliers();
+    UpdateLineExtents();
+    Announce(SfmStage::kDone);
+    r.ok = true;
+    return Finish(std::move(r));
+  }
+
+ private:
+  void Announce(SfmStage s) {
+    if (observer_) observer_(s);
+  }
+  void Progress(const std::string& m) {
+    if (progress_) progress_(m);
+  }
+  int NumViews() const { return static_cast<int>(views_.size()); }
+
+  // ----- matching -----
+  void MatchAllPairs() {
+    const int n = NumViews();
+    for (int a = 0; a < n; ++a) {
+      for (int b = a + 1; b < n; ++b) {
+        VerifiedPair p;
+        if (Verify(a, b, &p)) pairs_.push_back(std::move(p));
+      }
+      Progress("matched view " + std::to_string(a + 1) + "/" + std::to_string(n) + ", " +
+               std::to_string(pairs_.size()) + " verified pairs");
+    }
+  }
+
+  bool Verify(int a, int b, VerifiedPair* p) {
+    const auto matches =
+        MatchDescriptors(views_[a].descriptors, views_[b].descriptors, o_.match_ratio);
+    if (static_cast<int>(matches.size()) < std::max(o_.min_pair_inliers, 5)) return false;
+    std::vector<cv::Point2d> xa, xb;
+    for (const auto& [i, j] : matches) {
+      const Eigen::Vector2d na = Normalized(K_, views_[a].keypoints[i]);
+      const Eigen::Vector2d nb = Normalized(K_, views_[b].keypoints[j]);
+      xa.emplace_back(na.x(), na.y());
+      xb.emplace_back(nb.x(), nb.y());
+    }
+    const double f = 0.5 * (K_.fx + K_.fy);
+    cv::Mat mask;
+    cv::Mat E = cv::findEssentialMat(xa, xb, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
+                                     o_.essential_threshold_px / f, mask);
+    if (E.rows < 3 || E.cols != 3) return false;
+    E = E.rowRange(0, 3).clone();
+    cv::Mat R, t;
+    const int good = cv::recoverPose(E, xa, xb, R, t, 1.0, cv::Point2d(0, 0), mask);
+    if (good < o_.min_pair_inliers) return false;
+    Eigen::Matrix3d Re;
+    Eigen::Vector3d te;
+    for (int r = 0; r < 3; ++r) {
+      te(r) = t.at<double>(r);
+      for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+    }
+    p->a = a;
+    p->b = b;
+    p->T_b_a = SE3d(Re, te.normalized());
+    std::vector<double> angles;
+    for (std::size_t k = 0; k < matches.size(); ++k) {
+      if (!mask.at<uchar>(static_cast<int>(k))) continue;
+      p->matches.push_back(matches[k]);
+      const Eigen::Vector3d ra = Eigen::Vector3d(xa[k].x, xa[k].y, 1.0).normalized();
+      const Eigen::Vector3d rb =
+          Re.transpose() * Eigen::Vector3d(xb[k].x, xb[k].y, 1.0).normalized();
+      angles.push_back(std::acos(std::clamp(ra.dot(rb), -1.0, 1.0)) * 180.0 / M_PI);
+    }
+    p->median_angle_deg = Median(angles);
+    return true;
+  }
+
+  void BuildPointTracks() {
+    const int n = NumViews();
+    std::vector<int> offset(n + 1, 0);
+    for (int v = 0; v < n; ++v) offset[v + 1] = offset[v] + static_cast<int>(kp_track_[v].size());
+    UnionFind uf(offset[n]);
+    std::vector<char> used(offset[n], 0);
+    for (const VerifiedPair& p : pairs_)
+      for (const auto& [i, j] : p.matches) {
+        uf.Union(offset[p.a] + i, offset[p.b] + j);
+        used[offset[p.a] + i] = used[offset[p.b] + j] = 1;
+      }
+    std::map<int, std::vector<Obs>> components;
+    for (int v = 0; v < n; ++v)
+      for (int k = 0; k < static_cast<int>(kp_track_[v].size()); ++k)
+        if (used[offset[v] + k]) components[uf.Find(offset[v] + k)].emplace_back(v, k);
+    std::vector<std::vector<Obs>> tracks;
+    for (auto& [root, obs] : components) {
+      std::vector<char> seen(n, 0);
+      bool consistent = obs.size() >= 2;
+      for (const Obs& o : obs) {
+        if (seen[o.first]) consistent = false;
+        seen[o.first] = 1;
+      }
+      if (consistent) tracks.push_back(std::move(obs));
+    }
+    point_tracks_total_ = static_cast<int>(tracks.size());
+    std::stable_sort(tracks.begin(), tracks.end(),
+                     [](const auto& a, const auto& b) { return a.size() > b.size(); });
+    if (o_.max_points > 0 && static_cast<int>(tracks.size()) > o_.max_points)
+      tracks.resize(o_.max_points);
+    for (auto& obs : tracks) {
+      PointTrack t;
+      t.obs = std::move(obs);
+      t.outlier.assign(t.obs.size(), 0);
+      for (const Obs& o : t.obs) kp_track_[o.first][o.second] = static_cast<int>(tracks_.size());
+      tracks_.push_back(std::move(t));
+    }
+  }
+
+  // ----- initialisation -----
+  bool Initialize(std::string* why) {
+    const VerifiedPair* best = nullptr;
+    for (const VerifiedPair& p : pairs_) {
+      if (p.median_angle_deg < o_.min_init_angle_deg) continue;
+      if (!best || p.matches.size() > best->matches.size()) best = &p;
+    }
+    if (!best) {
+      *why = pairs_.empty() ? "no pair of views has enough verified matches (" +
+                                  std::to_string(o_.min_pair_inliers) + " essential inliers)"
+                            : "no verified pair has a median triangulation angle of " +
+                                  std::to_string(o_.min_init_angle_deg) + " deg";
+      return false;
+    }
+    pose_[best->a] = SE3d();
+    pose_[best->b] = best->T_b_a.Inverse();
+    order_ = {best->a, best->b};
+    init_a_ = best->a;
+    init_b_ = best->b;
+    status_[best->a] = status_[best->b] = "registered";
+    Announce(SfmStage::kTriangulation);
+    const int points = TriangulatePoints();
+    Progress("initial pair " + std::to_string(best->a) + "-" + std::to_string(best->b) + ": " +
+             std::to_string(best->matches.size()) + " inliers, median angle " +
+             std::to_string(best->median_angle_deg) + " deg, " + std::to_string(points) +
+             " points");
+    if (points < o_.min_pnp_inliers) {
+      *why = "the initial pair triangulates only " + std::to_string(points) + " points";
+      return false;
+    }
+    if (o_.use_lines) {
+      Announce(SfmStage::kLines);
+      MatchLines(best->b);
+      TriangulateLines();
+    }
+    return true;
+  }
+
+  // ----- registration -----
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector2d>> Correspondences(int v,
+                                                                           std::vector<int>* ids) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector2d>> c;
+    for (int k = 0; k < static_cast<int>(kp_track_[v].size()); ++k) {
+      const int t = kp_track_[v][k];
+      if (t < 0 || !tracks_[t].has_point) continue;
+      c.emplace_back(tracks_[t].p_w, views_[v].keypoints[k]);
+      if (ids) ids->push_back(t);
+    }
+    return c;
+  }
+
+  bool RegisterNext() {
+    Announce(SfmStage::kRegistration);
+    int best = -1, best_count = 0;
+    for (int v = 0; v < NumViews(); ++v) {
+      if (pose_[v] || views_[v].keypoints.empty()) continue;
+      const int count = static_cast<int>(Correspondences(v, nullptr).size());
+      if (count <= failed_count_[v] * 1.2 + 1) continue;  // retry only with more support
+      if (count > best_count) best = v, best_count = count;
+    }
+    if (best < 0 || best_count < o_.min_pnp_inliers) return false;
+    const int v = best;
+    std::vector<int> ids;
+    const auto corr = Correspondences(v, &ids);
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (const auto& [p, uv] : corr) {
+      obj.emplace_back(p.x(), p.y(), p.z());
+      img.emplace_back(uv.x(), uv.y());
+    }
+    cv::Mat Kcv = (cv::Mat_<double>(3, 3) << K_.fx, 0, K_.cx, 0, K_.fy, K_.cy, 0, 0, 1);
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    bool ok = false;
+    try {
+      ok = cv::solvePnPRansac(obj, img, Kcv, cv::noArray(), rvec, tvec, false, 1000,
+                              static_cast<float>(o_.pnp_threshold_px), 0.9999, inliers,
+                              cv::SOLVEPNP_AP3P);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok || static_cast<int>(inliers.size()) < o_.min_pnp_inliers) {
+      failed_count_[v] = best_count;
+      status_[v] = "PnP failed: " + std::to_string(inliers.size()) + " inliers of " +
+                   std::to_string(best_count) + " correspondences";
+      Progress("view " + std::to_string(v) + ": " + status_[v]);
+      return true;  // other views may still register
+    }
+    cv::Mat Rcv;
+    cv::Rodrigues(rvec, Rcv);
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    for (int r = 0; r < 3; ++r) {
+      t(r) = tvec.at<double>(r);
+      for (int c = 0; c < 3; ++c) R(r, c) = Rcv.at<double>(r, c);
+    }
+    const SE3d T_c_w(R, t);
+    if (!T_c_w.translation().allFinite() || !T_c_w.rotation().coeffs().allFinite()) {
+      failed_count_[v] = best_count;
+      status_[v] = "PnP gave a non-finite pose";
+      return true;
+    }
+    pose_[v] = T_c_w.Inverse();
+    // Correspondences that PnP rejected are outliers of their tracks in this view.
+    std::vector<char> is_inlier(corr.size(), 0);
+    for (int i : inliers) is_inlier[i] = 1;
+    for (std::size_t i = 0; i < corr.size(); ++i)
+      if (!is_inlier[i]) MarkOutlier(&tracks_[ids[i]], v);
+    order_.push_back(v);
+    status_[v] = "registered";
+    const int num_inliers = static_cast<int>(inliers.size());
+    if (o_.use_lines) {
+      Announce(SfmStage::kLines);
+      MatchLines(v);
+    }
+    RefinePose(v, o_.use_lines && num_inliers < o_.scarce_points);
+    Announce(SfmStage::kTriangulation);
+    const int new_points = TriangulatePoints();
+    int new_lines = 0;
+    if (o_.use_lines) {
+      Announce(SfmStage::kLines);
+      new_lines = TriangulateLines();
+    }
+    Announce(SfmStage::kAdjustment);
+    Adjust(o_.local_iterations);
+    RejectOutliers();
+    Progress("registered view " + std::to_string(v) + " (" + std::to_string(order_.size()) + "/" +
+             std::to_string(NumViews()) + "): " + std::to_string(num_inliers) + " PnP inliers, +" +
+             std::to_string(new_points) + " points, +" + std::to_string(new_lines) + " lines");
+    return true;
+  }
+
+  static void MarkOutlier(PointTrack* t, int view) {
+    for (std::size_t i = 0; i < t->obs.size(); ++i)
+      if (t->obs[i].first == view) t->outlier[i] = 1;
+  }
+
+  // Pose-only adjustment of view v against the fixed points (and lines when with_lines).
+  void RefinePose(int v, bool with_lines) {
+    ba::BundleAdjustmentData data;
+    data.K = K_;
+    data.T_w_c = {*pose_[v]};
+    for (std::size_t t = 0; t < tracks_.size(); ++t) {
+      const PointTrack& tr = tracks_[t];
+      if (!tr.has_point) continue;
+      for (std::size_t i = 0; i < tr.obs.size(); ++i) {
+        if (tr.obs[i].first != v || tr.outlier[i]) continue;
+        data.point_observations.push_back(
+            {0, static_cast<int>(data.points_w.size()), views_[v].keypoints[tr.obs[i].second]});
+        data.points_w.push_back(tr.p_w);
+      }
+    }
+    if (with_lines) {
+      for (const LineTrack& lt : line_tracks_) {
+        if (!lt.has_line) continue;
+        for (std::size_t i = 0; i < lt.obs.size(); ++i) {
+          if (lt.obs[i].first != v || lt.outlier[i]) continue;
+          const vision::Segment2d& s = views_[v].lines.segments[lt.obs[i].second];
+          data.line_observations.push_back(
+              {0, static_cast<int>(data.lines_w.size()), s.head<2>(), s.tail<2>()});
+          data.lines_w.push_back(lt.L_w);
+        }
+      }
+      if (!data.line_observations.empty()) ++line_refined_;
+    }
+    ba::BundleAdjustmentOptions options;
+    options.num_fixed_poses = 0;
+    options.point_sigma_px = o_.point_sigma_px;
+    options.line_sigma_px = o_.line_sigma_px;
+    options.refine_points = options.refine_lines = false;
+    options.huber_threshold = o_.huber_px;
+    options.max_iterations = 20;
+    const ba::BundleAdjustmentResult r = ba::SolveBundleAdjustment(options, &data);
+    if (r.success && data.T_w_c[0].translation().allFinite()) pose_[v] = data.T_w_c[0];
+  }
+
+  // ----- triangulation -----
+  int TriangulatePoints() {
+    PointTriangulationOptions options;
+    options.min_parallax_deg = o_.min_triangulation_angle_deg;
+    int added = 0;
+    for (PointTrack& t : tracks_) {
+      if (t.has_point || t.dead) continue;
+      std::vector<SE3d> poses;
+      std::vector<Eigen::Vector2d> uv;
+      for (std::size_t i = 0; i < t.obs.size(); ++i) {
+        const auto& [v, k] = t.obs[i];
+        if (!pose_[v] || t.outlier[i]) continue;
+        poses.push_back(*pose_[v]);
+        uv.push_back(views_[v].keypoints[k]);
+      }
+      if (poses.size() < 2) continue;
+      const PointTriangulationResult r = TriangulatePoint(K_, poses, uv, options);
+      if (!r.ok() || r.final_rms_px > o_.max_reprojection_px) continue;
+      t.p_w = r.p_w;
+      t.has_point = true;
+      ++added;
+    }
+    return added;
+  }
+
+  // Matches the lines of view v with those of the registered views it shares a verified pair
+  // with (epipolar gating with the current poses) and joins them to line tracks.
+  void MatchLines(int v) {
+    if (views_[v].lines.size() == 0) return;
+    for (const VerifiedPair& p : pairs_) {
+      const int r = p.a == v ? p.b : (p.b == v ? p.a : -1);
+      if (r < 0 || !pose_[r] || views_[r].lines.size() == 0) continue;
+      const SE3d T_v_r = pose_[v]->Inverse() * *pose_[r];
+      const Eigen::Matrix3d E = Skew(T_v_r.translation()) * T_v_r.RotationMatrix();
+      const Eigen::Matrix3d Kinv = K_.K().inverse();
+      const Eigen::Matrix3d F_v_r = Kinv.transpose() * E * Kinv;
+      const vision::LineMatchResult m =
+          vision::MatchLines(views_[r].lines, views_[v].lines, o_.line_matcher, F_v_r);
+      for (const vision::LineMatch& lm : m.matches) Join({r, lm.a}, {v, lm.b});
+    }
+  }
+
+  bool TrackHasView(int t, int view) const {
+    for (const Obs& o : line_tracks_[t].obs)
+      if (o.first == view) return true;
+    return false;
+  }
+
+  void AddToLineTrack(int t, const Obs& o) {
+    line_tracks_[t].obs.push_back(o);
+    line_tracks_[t].outlier.push_back(0);
+    seg_track_[o.first][o.second] = t;
+  }
+
+  void Join(const Obs& a, const Obs& b) {
+    int ta = seg_track_[a.first][a.second], tb = seg_track_[b.first][b.second];
+    if (ta < 0 && tb < 0) {
+      line_tracks_.emplace_back();
+      const int t = static_cast<int>(line_tracks_.size()) - 1;
+      AddToLineTrack(t, a);
+      AddToLineTrack(t, b);
+    } else if (tb < 0) {
+      if (!TrackHasView(ta, b.first)) AddToLineTrack(ta, b);
+    } else if (ta < 0) {
+      if (!TrackHasView(tb, a.first)) AddToLineTrack(tb, a);
+    } else if (ta != tb) {
+      for (const Obs& o : line_tracks_[tb].obs)
+        if (TrackHasView(ta, o.first)) return;  // the tracks disagree: keep both as they are
+      if (line_tracks_[tb].has_line && !line_tracks_[ta].has_line) std::swap(ta, tb);
+      for (const Obs& o : line_tracks_[tb].obs) AddToLineTrack(ta, o);
+      line_tracks_[tb] = LineTrack();
+      line_tracks_[tb].dead = true;
+    }
+  }
+
+  std::vector<LineObservation> LineObservations(const LineTrack& t,
+                                                std::vector<int>* index = nullptr) const {
+    std::vector<LineObservation> obs;
+    for (std::size_t i = 0; i < t.obs.size(); ++i) {
+      const auto& [v, s] = t.obs[i];
+      if (!pose_[v] || t.outlier[i]) continue;
+      const vision::Segment2d& seg = views_[v].lines.segments[s];
+      obs.push_back({*pose_[v], seg.head<2>(), seg.tail<2>()});
+      if (index) index->push_back(static_cast<int>(i));
+    }
+    return obs;
+  }
+
+  int TriangulateLines() {
+    int added = 0;
+    for (LineTrack& t : line_tracks_) {
+      if (t.has_line || t.dead) continue;
+      const std::vector<LineObservation> obs = LineObservations(t);
+      const int n = static_cast<int>(obs.size());
+      if (n < std::max(2, o_.min_line_views) || n <= t.tried_views) continue;
+      const LineTriangulationResult r = TriangulateLineRefined(K_, obs, o_.line_triangulation);
+      if (!r.ok() || r.max_error_px > o_.max_reprojection_px) {
+        t.tried_views = n;
+        continue;
+      }
+      t.L_w = r.L_w;
+      t.start_w = r.start_w;
+      t.end_w = r.end_w;
+      t.has_line = true;
+      ++added;
+    }
+    return added;
+  }
+
+  // ----- adjustment -----
+  void Adjust(int iterations) {
+    ba::BundleAdjustmentData data;
+    data.K = K_;
+    std::vector<int> ba_index(NumViews(), -1);
+    for (int v : order_) {
+      ba_index[v] = static_cast<int>(data.T_w_c.size());
+      data.T_w_c.push_back(*pose_[v]);
+    }
+    std::vector<int> point_of, line_of;
+    for (std::size_t t = 0; t < tracks_.size(); ++t) {
+      const PointTrack& tr = tracks_[t];
+      if (!tr.has_point) continue;
+      const int id = static_cast<int>(data.points_w.size());
+      for (std::size_t i = 0; i < tr.obs.size(); ++i) {
+        const auto& [v, k] = tr.obs[i];
+        if (ba_index[v] < 0 || tr.outlier[i]) continue;
+        data.point_observations.push_back({ba_index[v], id, views_[v].keypoints[k]});
+      }
+      data.points_w.push_back(tr.p_w);
+      point_of.push_back(static_cast<int>(t));
+    }
+    for (std::size_t t = 0; t < line_tracks_.size(); ++t) {
+      const LineTrack& lt = line_tracks_[t];
+      if (!lt.has_line) continue;
+      const int id = static_cast<int>(data.lines_w.size());
+      for (std::size_t i = 0; i < lt.obs.size(); ++i) {
+        const auto& [v, s] = lt.obs[i];
+        if (ba_index[v] < 0 || lt.outlier[i]) continue;
+        const vision::Segment2d& seg = views_[v].lines.segments[s];
+        data.line_observations.push_back({ba_index[v], id, seg.head<2>(), seg.tail<2>()});
+      }
+      data.lines_w.push_back(lt.L_w);
+      line_of.push_back(static_cast<int>(t));
+    }
+    ba::BundleAdjustmentOptions options;
+    // Gauge: the first camera is held; the scale is left to Levenberg-Marquardt's damping
+    // (holding the second camera too would freeze the essential-matrix pose of the initial pair
+    // and bend every other camera to fit it).
+    options.num_fixed_poses = 1;
+    options.point_sigma_px = o_.point_sigma_px;
+    options.line_sigma_px = o_.line_sigma_px;
+    options.huber_threshold = o_.huber_px;
+    options.max_iterations = iterations;
+    options.num_threads = o_.num_threads;
+    options.function_tolerance = 1e-8;
+    options.gradient_tolerance = 1e-10;
+    options.parameter_tolerance = 1e-10;
+    const ba::BundleAdjustmentResult r = ba::SolveBundleAdjustment(options, &data);
+    ++adjustments_;
+    if (!r.success) return;
+    for (int v : order_) {
+      const SE3d& T = data.T_w_c[ba_index[v]];
+      if (T.translation().allFinite() && T.rotation().coeffs().allFinite()) pose_[v] = T;
+    }
+    for (std::size_t i = 0; i < point_of.size(); ++i)
+      if (data.points_w[i].allFinite()) tracks_[point_of[i]].p_w = data.points_w[i];
+    for (std::size_t i = 0; i < line_of.size(); ++i)
+      if (data.lines_w[i].allFinite()) line_tracks_[line_of[i]].L_w = data.lines_w[i];
+  }
+
+  // Flags observations whose reprojection error exceeds max_reprojection_px; drops points and
+  // lines left with too few observations. Returns the number of flagged observations.
+  int RejectOutliers() {
+    int rejected = 0;
+    for (PointTrack& t : tracks_) {
+      if (!t.has_point) continue;
+      int good = 0;
+      for (std::size_t i = 0; i < t.obs.size(); ++i) {
+        const auto& [v, k] = t.obs[i];
+        if (!pose_[v] || t.outlier[i]) continue;
+        const auto uv = ProjectPoint(K_, *pose_[v], t.p_w);
+        if (!uv || (*uv - views_[v].keypoints[k]).norm() > o_.max_reprojection_px) {
+          t.outlier[i] = 1;
+          ++rejected;
+          ++rejected_points_;
+        } else {
+          ++good;
+        }
+      }
+      if (good < 2) t.has_point = false, t.dead = true;
+    }
+    for (LineTrack& t : line_tracks_) {
+      if (!t.has_line) continue;
+      std::vector<int> index;
+      const std::vector<LineObservation> obs = LineObservations(t, &index);
+      const auto err = LineReprojectionErrors(K_, obs, t.L_w);
+      int good = 0;
+      for (std::size_t i = 0; i < obs.size(); ++i) {
+        if (!err || std::max(std::abs((*err)(2 * i)), std::abs((*err)(2 * i + 1))) >
+                        o_.max_reprojection_px) {
+          t.outlier[index[i]] = 1;
+          ++rejected;
+          ++rejected_lines_;
+        } else {
+          ++good;
+        }
+      }
+      if (good < 2) t.has_line = false, t.dead = true;
+    }
+    return rejected;
+  }
+
+  // The 3D segment of each line: the extent along d of the endpoints seen in every view.
+  void UpdateLineExtents() {
+    for (LineTrack& t : line_tracks_) {
+      if (!t.has_line) continue;
+      const auto L = NormalizeLineDirection(t.L_w);
+      if (!L) continue;
+      t.L_w = *L;
+      const Eigen::Vector3d d = L->tail<3>();
+      const Eigen::Vector3d p0 = d.cross(L->head<3>());  // closest point to the origin
+      double lo = 1e300, hi = -1e300;
+      for (const LineObservation& o : LineObservations(t)) {
+        const auto e = SegmentEndpointsOnLine(K_, o, *L);
+        if (!e || e->start_depth <= 0 || e->end_depth <= 0) continue;
+        for (const Eigen::Vector3d& x : {e->start_w, e->end_w}) {
+          lo = std::min(lo, d.dot(x - p0));
+          hi = std::max(hi, d.dot(x - p0));
+        }
+      }
+      if (lo < hi) t.start_w = p0 + lo * d, t.end_w = p0 + hi * d;
+    }
+  }
+
+  SfmResult Finish(SfmResult r) {
+    r.T_w_c = pose_;
+    r.view_status = status_;
+    double point_err = 0.0, line_err = 0.0;
+    for (const PointTrack& t : tracks_) {
+      if (!t.has_point) continue;
+      SfmPoint p;
+      p.p_w = t.p_w;
+      for (std::size_t i = 0; i < t.obs.size(); ++i) {
+        const auto& [v, k] = t.obs[i];
+        if (!pose_[v] || t.outlier[i]) continue;
+        const auto uv = ProjectPoint(K_, *pose_[v], t.p_w);
+        if (!uv) continue;
+        point_err += (*uv - views_[v].keypoints[k]).norm();
+        p.observations.push_back(t.obs[i]);
+      }
+      r.stats.point_observations += static_cast<int>(p.observations.size());
+      r.points.push_back(std::move(p));
+    }
+    for (const LineTrack& t : line_tracks_) {
+      if (!t.has_line) continue;
+      SfmLine l;
+      l.L_w = t.L_w;
+      l.start_w = t.start_w;
+      l.end_w = t.end_w;
+      std::vector<int> index;
+      const auto obs = LineObservations(t, &index);
+      const auto err = LineReprojectionErrors(K_, obs, t.L_w);
+      if (!err) continue;
+      line_err += err->cwiseAbs().sum();
+      for (int i : index) l.observations.push_back(t.obs[i]);
+      r.stats.line_observations += static_cast<int>(l.observations.size());
+      r.lines.push_back(std::move(l));
+    }
+    r.stats.registered = static_cast<int>(order_.size());
+    r.stats.points = static_cast<int>(r.points.size());
+    r.stats.lines = static_cast<int>(r.lines.size());
+    if (r.stats.point_observations > 0)
+      r.stats.mean_point_error_px = point_err / r.stats.point_observations;
+    if (r.stats.line_observations > 0)
+      r.stats.mean_line_error_px = line_err / (2.0 * r.stats.line_observations);
+    r.stats.init_a = init_a_;
+    r.stats.init_b = init_b_;
+    r.stats.rejected_point_observations = rejected_points_;
+    r.stats.rejected_line_observations = rejected_lines_;
+    r.stats.adjustments = adjustments_;
+    r.stats.line_refined_registrations = line_refined_;
+    return r;
+  }
+
+  const PinholeIntrinsics K_;
+  const std::vector<ViewFeatures>& views_;
+  const SfmOptions o_;
+  const SfmObserver& observer_;
+  const SfmProgress& progress_;
+
+  std::vector<std::optional<SE3d>> pose_;
+  std::vector<std::string> status_;
+  std::vector<int> failed_count_;
+  std::vector<int> order_;  // registration order; the first two are the initial pair
+  std::vector<VerifiedPair> pairs_;
+  std::vector<std::vector<int>> kp_track_, seg_track_;
+  std::vector<PointTrack> tracks_;
+  std::vector<LineTrack> line_tracks_;
+  int point_tracks_total_ = 0;
+  int init_a_ = -1, init_b_ = -1;
+  int rejected_points_ = 0, rejected_lines_ = 0, adjustments_ = 0, line_refined_ = 0;
+};
+
+}  // namespace
+
+SfmResult Reconstruct(const PinholeIntrinsics& K, const std::vector<ViewFeatures>& views,
+                      const SfmOptions& options, const SfmObserver& observer,
+                      const SfmProgress& progress) {
+  if (!K.IsValid()) {
+    SfmResult r;
+    r.message = "invalid intrinsics";
+    r.T_w_c.assign(views.size(), std::nullopt);
+    r.view_status.assign(views.size(), "not registered");
+    r.stats.views = static_cast<int>(views.size());
+    return r;
+  }
+  return Reconstruction(K, views, options, observer, progress).Run();
+}
+
+}  // namespace sfm
+}  // namespace plucker
