@@ -45,6 +45,10 @@ struct VoArgs {
   int max_init_gap = 30;
   double line_min_angle_deg = 5.0;
   double loss_scale = 1.5;
+  double keyframe_parallax_px = 10.0;
+  double min_tracked_ratio = 0.6;
+  std::string prior = "landmarks";
+  std::string solver = "sparse_schur";
   bool quiet = false;
 };
 
@@ -118,6 +122,10 @@ int Run(const VoArgs& a) {
   options.condition_far_lines = !a.no_line_conditioning;
   options.line_triangulation.min_plane_angle_deg = a.line_min_angle_deg;
   options.loss_scale = a.loss_scale;
+  options.keyframe_parallax_px = a.keyframe_parallax_px;
+  options.min_tracked_ratio = a.min_tracked_ratio;
+  options.prior_blocks = a.prior == "poses" ? window::SlidingWindowOptions::PriorBlocks::kPoses
+                                            : window::SlidingWindowOptions::PriorBlocks::kLandmarks;
   options.point_sigma_px = options.line_sigma_px = std::max(input.pixel_sigma, 0.5);
   window::SlidingWindowEstimator estimator(input.K, options);
 
@@ -322,6 +330,18 @@ void RegisterVo(CLI::App& app, int* exit_code) {
           ->capture_default_str();
   cmd->add_option("--loss-scale", args->loss_scale, "Huber loss scale (in pixel sigmas)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--keyframe-parallax", args->keyframe_parallax_px, "Keyframe parallax (px)")
+      ->capture_default_str();
+  cmd->add_option("--min-tracked-ratio", args->min_tracked_ratio, "Keyframe track ratio")
+      ->capture_default_str();
+  cmd->add_option("--prior", args->prior, "Prior blocks: landmarks or poses")
+      ->check(CLI::IsMember({"landmarks", "poses"}))
+      ->capture_default_str();
+  cmd->add_option("--max-points", args->images.frontend.points.target_count, "Point tracks")
+      ->capture_default_str();
+  cmd->add_option("--point-distance", args->images.frontend.points.min_distance_px,
+                  "Point min distance")
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, line_min_angle]() {

@@ -68,7 +68,7 @@ VoImageInput ReadVoImages(const VoImageSource& s) {
   const ImageCamera camera = ReadCamera(s, files.front());
   VoImageInput in;
   in.K = camera.K;
-  vision::ImageFrontendOptions options;
+  vision::ImageFrontendOptions options = s.frontend;
   options.use_lines = s.use_lines;
   vision::ImageFrontend frontend(camera.K, options);
   std::array<double, vision::kNumFrontendStages> total{};

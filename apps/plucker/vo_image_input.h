@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "plucker/geometry/camera.h"
+#include "plucker/vision/image_frontend.h"
 #include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
@@ -20,6 +21,7 @@ struct VoImageSource {
   double frame_rate_hz = 10.0;  // frame times i / rate (the folder has none)
   bool use_lines = true;
   bool quiet = false;
+  vision::ImageFrontendOptions frontend;  // use_lines is set from the field above
 };
 
 struct VoImageInput {
