@@ -6,6 +6,8 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <opencv2/calib3d.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -298,6 +300,34 @@ struct SlidingWindowEstimator::Impl {
     result.T_w_c = f->T_w_c();
     result.ok = result.points + result.lines >= 6 && f->T_w_c().translation().allFinite();
     return result;
+  }
+
+  // The pose from PnP RANSAC of the frame's point tracks against the window's points, or nullopt.
+  std::optional<SE3d> PnpPose(const Frame& f) const {
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (const auto& p : f.input.points) {
+      const auto it = points.find(p.point_id);
+      if (it == points.end()) continue;
+      object.emplace_back(it->second->p[0], it->second->p[1], it->second->p[2]);
+      image.emplace_back(p.uv.x(), p.uv.y());
+    }
+    if (static_cast<int>(object.size()) < std::max(opt.pnp_min_inliers, 6)) return std::nullopt;
+    const cv::Matx33d Kcv(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    const bool ok = cv::solvePnPRansac(object, image, Kcv, cv::noArray(), rvec, tvec, false, 200,
+                                       static_cast<float>(opt.pnp_threshold_px), 0.999, inliers,
+                                       cv::SOLVEPNP_EPNP);
+    if (!ok || static_cast<int>(inliers.size()) < opt.pnp_min_inliers) return std::nullopt;
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    Eigen::Matrix3d R_c_w;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R_c_w(r, c) = R(r, c);
+    const Eigen::Vector3d t_c_w(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    if (!R_c_w.allFinite() || !t_c_w.allFinite()) return std::nullopt;
+    return SE3d(Eigen::Quaterniond(R_c_w), t_c_w).Inverse();
   }
 
   // --- keyframe policy -------------------------------------------------------------------------
@@ -861,7 +891,16 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
   stage(WindowStage::kTracking);
-  const Impl::TrackResult track = m.Track(frame.get(), predicted);
+  Impl::TrackResult track = m.Track(frame.get(), predicted);
+  if (!track.ok && m.opt.pnp_fallback) {
+    const std::optional<SE3d> pnp = m.PnpPose(*frame);
+    result.pnp_fallback = true;
+    if (pnp) {
+      std::fill(frame->point_outlier.begin(), frame->point_outlier.end(), 0);
+      std::fill(frame->segment_outlier.begin(), frame->segment_outlier.end(), 0);
+      track = m.Track(frame.get(), *pnp);
+    }
+  }
   result.tracking_iterations = track.iterations;
   result.tracked_points = track.points;
   result.tracked_lines = track.lines;

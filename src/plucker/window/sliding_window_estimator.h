@@ -98,6 +98,12 @@ struct SlidingWindowOptions {
   // lives on poses only (at most 6 x window_size), and the window solve stays sparse.
   enum class PriorBlocks { kLandmarks, kPoses };
   PriorBlocks prior_blocks = PriorBlocks::kLandmarks;
+  // When motion-only tracking fails (too few inliers from the prediction, e.g. after a jump):
+  // PnP RANSAC (OpenCV EPnP) of the frame's point tracks against the window's 3D points, then
+  // tracking again from that pose.
+  bool pnp_fallback = true;
+  double pnp_threshold_px = 3.0;  // RANSAC inlier threshold
+  int pnp_min_inliers = 10;
   PointTriangulationOptions point_triangulation;
   // New lines need 5 deg between back-projected planes (2 deg let lines nearly parallel to the
   // motion in: the corridor's ATE went from 0.43 m to 0.13 m with 5).
@@ -125,7 +131,8 @@ struct FrameInput {
 };
 
 struct FrameResult {
-  bool ok = false;  // false: too little to track; T_w_c is the prediction
+  bool ok = false;            // false: too little to track; T_w_c is the prediction
+  bool pnp_fallback = false;  // tracking from the prediction failed and PnP RANSAC was tried
   SE3d T_w_c;
   bool keyframe = false;
   int tracked_points = 0;  // observations of existing landmarks kept as inliers
