@@ -153,6 +153,18 @@ std::optional<double> ChainedBaseline(const VoRun& run, int from, int gap) {
   return step * gap;
 }
 
+// The pose of frame i extrapolated at constant velocity from the last two localised frames
+// before `from` (the first map: identity).
+SE3d PredictPose(const VoRun& run, int from, int i) {
+  int last = from - 1;
+  while (last >= 1 && !(run.has_pose[last] && run.has_pose[last - 1])) --last;
+  if (last < 1) return SE3d();
+  const SE3d step = run.poses[last - 1].Inverse() * run.poses[last];
+  SE3d T = run.poses[last];
+  for (int k = last; k < i; ++k) T = T * step;
+  return T;
+}
+
 // Initialise: a new estimator on the first frame pair (a >= from, a < b <= a + max_gap) whose
 // point tracks give a two-view start. The first map's world is camera a with |t_ab| = 1; a later
 // map continues the trajectory: camera a at its predicted pose, |t_ab| chained (ChainedBaseline).
@@ -171,7 +183,7 @@ std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* m
         continue;
       }
       const std::optional<double> chained = ChainedBaseline(run, from, j - i);
-      const SE3d T_w_a = chained ? run.poses[i] : SE3d();
+      const SE3d T_w_a = chained ? PredictPose(run, from, i) : SE3d();
       SE3d T_a_b = tv.T_b_a.Inverse();
       if (chained) T_a_b = SE3d(T_a_b.rotation(), T_a_b.translation() * *chained);
       auto estimator = std::make_unique<window::SlidingWindowEstimator>(run.input.K, options);

@@ -236,6 +236,38 @@ TEST(SlidingWindowEstimator, PosesOnlyPriorRecoversPosesAndStaysConsistent) {
   EXPECT_LT(c.mean_nees, 18.0);
 }
 
+// PnP fallback: a frame whose prediction is far off (rotated 90 deg, moved 2 m) cannot be tracked
+// from it; PnP RANSAC against the window's points recovers its pose. Without the fallback the
+// frame is lost.
+TEST(SlidingWindowEstimator, PnpFallbackRecoversAFrameWithABadPrediction) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 20, 1);
+  std::vector<FrameInput> in = Inputs(s, 1);
+  const int bad = 12;
+  Vector6d jump;
+  jump << 0.0, M_PI / 2.0, 0.0, 2.0, 0.0, 0.0;
+  in[bad].T_w_c_guess = s.T_w_c_gt[bad].Plus(jump);
+  for (const bool fallback : {true, false}) {
+    SlidingWindowOptions options;
+    options.pnp_fallback = fallback;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    ASSERT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    FrameResult r;
+    for (int i = 4; i <= bad; ++i) r = estimator.AddFrame(in[i]);
+    const double error = (r.T_w_c.translation() - s.T_w_c_gt[bad].translation()).norm();
+    std::printf("bad prediction, PnP fallback %s: ok %d, tried %d, position error %.4f m\n",
+                fallback ? "on" : "off", r.ok, r.pnp_fallback, error);
+    if (fallback) {
+      EXPECT_TRUE(r.pnp_fallback);
+      EXPECT_TRUE(r.ok);
+      EXPECT_LT(error, 0.05);
+      EXPECT_GT(r.tracked_points, 20);
+    } else {
+      EXPECT_FALSE(r.pnp_fallback);
+      EXPECT_FALSE(r.ok && error < 0.05);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace window
 }  // namespace plucker
