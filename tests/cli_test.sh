@@ -146,6 +146,13 @@ expect vo-config-out-of-range nonzero "key 'lines.detection_scale': value 2 out 
 printf 'window: [1, 2\n' > "$T/vo_broken.yaml"
 expect vo-config-not-yaml nonzero "vo_broken.yaml: not valid YAML" -- \
   "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_broken.yaml"
+# The poses-only prior with scarce points and no lines (regression: a marginalization whose
+# leaving landmarks were all seen by k0 alone left no block for a prior and crashed).
+expect sim-camera-room1 0 "" -- \
+  "$PLUCKER" sim camera --out "$T/room1" --scene room --frames 100 --seed 1
+printf 'window.prior_on_poses_only: true\n' > "$T/vo_poses.yaml"
+expect vo-poses-prior-scarce 0 "100 frames" -- "$PLUCKER" vo --features "$T/room1" \
+  --out "$T/vo_p.txt" --point-stride 10 --no-lines --config "$T/vo_poses.yaml"
 expect vo-no-folder nonzero "plucker vo: error: .*nothing" -- \
   "$PLUCKER" vo --features "$T/nothing" --out "$T/vo_x.txt"
 expect vo-too-few-tracks nonzero "cannot initialise .*too few common point tracks" -- \

@@ -769,7 +769,15 @@ struct SlidingWindowEstimator::Impl {
     for (auto& [real, values] : scratch) blocks.push_back({values.data(), 7, &pose_manifold});
     std::unique_ptr<MarginalizationPrior> next;
     std::vector<double*> next_blocks;
-    if (!mres.empty() && scratch.count(f0->pose)) {
+    // Only k0's pose touched (e.g. every leaving landmark was seen by k0 alone): nothing remains
+    // for a prior to constrain.
+    const double* f0_scratch = scratch.count(f0->pose) ? scratch.at(f0->pose).data() : nullptr;
+    const bool others =
+        std::any_of(mres.begin(), mres.end(), [&](const MarginalizationResidual& m) {
+          return std::any_of(m.blocks.begin(), m.blocks.end(),
+                             [&](const double* b) { return b != f0_scratch; });
+        });
+    if (f0_scratch != nullptr && others) {
       try {
         next = std::make_unique<MarginalizationPrior>(MarginalizationPrior::Build(
             blocks, mres, {scratch.at(f0->pose).data()}, opt.marginalization));
