@@ -131,6 +131,40 @@ expect vo-rows 0 "^10$" -- bash -c "wc -l < '$T/vo.txt'"
 expect vo-json 0 '"keep_marginalized_lines": true' -- cat "$T/vo.json"
 expect vo-eval 0 "ATE translation" -- \
   "$PLUCKER" eval ate --gt "$T/cam/trajectory.txt" --est "$T/vo.txt" --align sim3
+# Re-initialisation: frames 12-15 of a 30-frame room without observations (ids -1: outliers).
+expect sim-camera-30 0 "" -- "$PLUCKER" sim camera --out "$T/cam30" --scene room --frames 30
+cp -r "$T/cam30" "$T/cam_gap"
+for f in points segments; do
+  awk '/^#/ {print; next} ($1 >= 12 && $1 <= 15) {$2 = -1} {print}' "$T/cam30/$f.txt" \
+    > "$T/cam_gap/$f.txt"
+done
+expect vo-reinit 0 "3 lost, 1 re-initialisations" -- \
+  "$PLUCKER" vo --features "$T/cam_gap" --out "$T/vo_gap.txt" --json "$T/vo_gap.json"
+expect vo-reinit-rows 0 "^30$" -- bash -c "wc -l < '$T/vo_gap.txt'"
+expect vo-reinit-json 0 '"scale": "chained"' -- cat "$T/vo_gap.json"
+# --config: a good file, an unknown key, a bad value, a value out of range.
+printf 'window:\n  size: 5\n  prior_on_poses_only: true\nlines.max_segments: 30\n' > "$T/vo_ok.yaml"
+expect vo-config 0 "10 frames" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_c.txt" --config "$T/vo_ok.yaml"
+printf 'window:\n  sise: 3\n' > "$T/vo_unknown.yaml"
+expect vo-config-unknown-key nonzero "vo_unknown.yaml: unknown key 'window.sise'" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_unknown.yaml"
+printf 'window:\n  size: many\n' > "$T/vo_badvalue.yaml"
+expect vo-config-bad-value nonzero "vo_badvalue.yaml: key 'window.size': expected an integer" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_badvalue.yaml"
+printf 'lines.detection_scale: 2\n' > "$T/vo_range.yaml"
+expect vo-config-out-of-range nonzero "key 'lines.detection_scale': value 2 out of range" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_range.yaml"
+printf 'window: [1, 2\n' > "$T/vo_broken.yaml"
+expect vo-config-not-yaml nonzero "vo_broken.yaml: not valid YAML" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_broken.yaml"
+# The poses-only prior with scarce points and no lines (regression: a marginalization whose
+# leaving landmarks were all seen by k0 alone left no block for a prior and crashed).
+expect sim-camera-room1 0 "" -- \
+  "$PLUCKER" sim camera --out "$T/room1" --scene room --frames 100 --seed 1
+printf 'window.prior_on_poses_only: true\n' > "$T/vo_poses.yaml"
+expect vo-poses-prior-scarce 0 "100 frames" -- "$PLUCKER" vo --features "$T/room1" \
+  --out "$T/vo_p.txt" --point-stride 10 --no-lines --config "$T/vo_poses.yaml"
 expect vo-no-folder nonzero "plucker vo: error: .*nothing" -- \
   "$PLUCKER" vo --features "$T/nothing" --out "$T/vo_x.txt"
 expect vo-too-few-tracks nonzero "cannot initialise .*too few common point tracks" -- \
@@ -289,7 +323,8 @@ if [ -f "$KITTI/poses.txt" ]; then
   for i in 0 1 2 3 4 5 6 7; do cp "$KITTI/image_0/00000$i.png" "$T/kvo/"; done
   expect vo-images-kitti 0 "8 frames \(initialised on frames" -- \
     "$PLUCKER" vo --images "$T/kvo" --calib "$KITTI/calib.txt" --out "$T/kvo.txt" \
-    --json "$T/kvo.json"
+    --json "$T/kvo.json" --draw "$T/kvo_draw"
+  expect vo-images-kitti-draw 0 "^8$" -- bash -c "ls '$T/kvo_draw'/*.png | wc -l"
   expect vo-images-kitti-rows 0 "^8$" -- bash -c "wc -l < '$T/kvo.txt'"
   expect vo-images-kitti-json 0 '"frontend_mean_ms"' -- cat "$T/kvo.json"
   # Another size than the calibration's: every image skipped and named, then too little to start.

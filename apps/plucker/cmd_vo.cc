@@ -8,24 +8,33 @@
 //   per frame   window AddFrame: track, keyframe decision, triangulate, solve, marginalize.
 // Writes the KITTI poses T_w_c of every frame (world = camera a; frames that could not be localised
 // repeat the last pose and are marked in the JSON).
+#include <malloc.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
+#include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/window/sliding_window_estimator.h"
 #include "plucker/window/two_view_initialization.h"
 #include "stage_clock.h"
+#include "vo_config.h"
+#include "vo_draw.h"
 #include "vo_image_input.h"
 
 namespace plucker {
@@ -33,7 +42,7 @@ namespace app {
 namespace {
 
 struct VoArgs {
-  std::string features, out, json;
+  std::string features, out, json, draw, config;
   VoImageSource images;
   bool no_lines = false;
   bool drop_marginalized_lines = false;
@@ -42,9 +51,9 @@ struct VoArgs {
   int point_stride = 1;
   int window = 10;
   int iterations = 10;
-  int max_init_gap = 30;
   double line_min_angle_deg = 5.0;
   double loss_scale = 1.5;
+  int max_lost_frames = 3;  // consecutive lost frames before a re-initialisation
   bool quiet = false;
 };
 
@@ -74,9 +83,10 @@ struct VoInput {
   std::vector<nlohmann::json> info;  // per frame, from the front end (empty for features)
   nlohmann::json frontend_ms;        // mean per frame by stage (images)
   std::vector<std::string> warnings;
+  std::shared_ptr<const vision::Undistorter> undistorter;  // images with --sensor
 };
 
-VoInput ReadInput(const VoArgs& a) {
+VoInput ReadInput(const VoArgs& a, const VoConfig& config) {
   VoInput in;
   if (a.images.images.empty()) {
     const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
@@ -87,7 +97,8 @@ VoInput ReadInput(const VoArgs& a) {
     return in;
   }
   VoImageSource source = a.images;
-  source.use_lines = !a.no_lines;
+  source.frontend = config.frontend;
+  source.use_lines = config.frontend.use_lines && config.window.use_lines;
   source.quiet = a.quiet;
   VoImageInput images = ReadVoImages(source);
   in.K = images.K;
@@ -95,175 +106,322 @@ VoInput ReadInput(const VoArgs& a) {
   in.info = std::move(images.info);
   in.frontend_ms = images.mean_stage_ms;
   in.warnings = std::move(images.warnings);
+  in.undistorter = images.undistorter;
   return in;
 }
 
-int Run(const VoArgs& a) {
+// The state of one run: the trajectory so far, per-frame records, the current map.
+struct VoRun {
+  const VoArgs& args;
+  const VoConfig& config;
+  const VoInput& input;
+  std::string source;
+  int n = 0;
+  std::vector<SE3d> poses;
+  std::vector<bool> has_pose;  // localised (tracked, initialisation or before the window)
+  std::vector<nlohmann::json> per_frame;
+  std::vector<std::string> status;
+  std::vector<bool> keyframe;
+  std::unique_ptr<window::SlidingWindowEstimator> estimator;
+  nlohmann::json maps = nlohmann::json::array();  // one entry per (re-)initialisation
+  int keyframes = 0, lost = 0, marginalized = 0, failed_marginalizations = 0;
+  int pnp_recoveries = 0;
+  int window_frames = 0;
+  double init_ms = 0.0, frame_total = 0.0;
+  std::array<double, window::kNumWindowStages> stage_total{};
+
+  VoRun(const VoArgs& a, const VoConfig& c, const VoInput& in)
+      : args(a), config(c), input(in), n(static_cast<int>(in.frames.size())) {
+    source = a.images.images.empty() ? a.features : a.images.images;
+    poses.resize(n);
+    has_pose.assign(n, false);
+    per_frame.resize(n);
+    status.assign(n, "not_localized");
+    keyframe.assign(n, false);
+  }
+};
+
+// The scale of a new map chained to the previous one: the distance the last tracked frames moved
+// per frame, times the frame gap of the two views (monocular: the best there is without another
+// sensor). nullopt for the first map or without two localised frames before `from`.
+std::optional<double> ChainedBaseline(const VoRun& run, int from, int gap) {
+  int last = from - 1;
+  while (last >= 1 && !(run.has_pose[last] && run.has_pose[last - 1])) --last;
+  if (last < 1) return std::nullopt;
+  const double step = (run.poses[last].translation() - run.poses[last - 1].translation()).norm();
+  if (!(step > 0.0) || !std::isfinite(step)) return std::nullopt;
+  return step * gap;
+}
+
+// The pose of frame i extrapolated at constant velocity from the last two localised frames
+// before `from` (the first map: identity).
+SE3d PredictPose(const VoRun& run, int from, int i) {
+  int last = from - 1;
+  while (last >= 1 && !(run.has_pose[last] && run.has_pose[last - 1])) --last;
+  if (last < 1) return SE3d();
+  const SE3d step = run.poses[last - 1].Inverse() * run.poses[last];
+  SE3d T = run.poses[last];
+  for (int k = last; k < i; ++k) T = T * step;
+  return T;
+}
+
+// Initialise: a new estimator on the first frame pair (a >= from, a < b <= a + max_gap) whose
+// point tracks give a two-view start. The first map's world is camera a with |t_ab| = 1; a later
+// map continues the trajectory: camera a at its predicted pose, |t_ab| chained (ChainedBaseline).
+// Returns (a, b), or nullopt with the reason in *message.
+std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* message) {
+  const std::vector<window::FrameInput>& frames = run.input.frames;
+  window::SlidingWindowOptions options = run.config.window;
+  const double t0 = ThreadCpuMs();
+  *message = "no frame pair";
+  for (int i = from; i + 1 < run.n; ++i) {
+    for (int j = i + 1; j < run.n && j <= i + run.config.max_init_gap; ++j) {
+      const window::TwoViewResult tv =
+          window::InitializeTwoView(run.input.K, frames[i].points, frames[j].points);
+      if (!tv.ok) {
+        *message = "frames " + std::to_string(i) + "-" + std::to_string(j) + ": " + tv.message;
+        continue;
+      }
+      const std::optional<double> chained = ChainedBaseline(run, from, j - i);
+      const SE3d T_w_a = chained ? PredictPose(run, from, i) : SE3d();
+      SE3d T_a_b = tv.T_b_a.Inverse();
+      if (chained) T_a_b = SE3d(T_a_b.rotation(), T_a_b.translation() * *chained);
+      auto estimator = std::make_unique<window::SlidingWindowEstimator>(run.input.K, options);
+      const window::InitializationResult init =
+          estimator->Initialize(frames[i], T_w_a, frames[j], T_w_a * T_a_b);
+      if (!init.ok) {
+        *message = "frames " + std::to_string(i) + "-" + std::to_string(j) +
+                   ": too few landmarks triangulated";
+        continue;
+      }
+      run.estimator = std::move(estimator);
+      run.poses[i] = init.T_w_a;
+      run.poses[j] = init.T_w_b;
+      run.has_pose[i] = run.has_pose[j] = true;
+      run.status[i] = run.status[j] = "initialization";
+      run.keyframe[i] = run.keyframe[j] = true;
+      run.keyframes += 2;
+      run.maps.push_back({{"frames", {i, j}},
+                          {"after_lost_frame", from > 0 ? from - 1 : -1},
+                          {"scale", chained ? "chained" : "unit_baseline"},
+                          {"baseline", chained ? *chained : 1.0},
+                          {"points", init.points},
+                          {"lines", init.lines}});
+      run.init_ms += ThreadCpuMs() - t0;
+      return std::make_pair(i, j);
+    }
+  }
+  run.init_ms += ThreadCpuMs() - t0;
+  return std::nullopt;
+}
+
+// The frames from `from` up to the second view b (except a) against the new map: before a from
+// a's pose, between a and b from the interpolation.
+void LocalizeBeforeWindow(VoRun& run, int from, int a, int b) {
+  for (int i = from; i < b; ++i) {
+    if (i == a) continue;
+    const SE3d guess = i < a
+                           ? run.poses[a]
+                           : Interpolate(run.poses[a], run.poses[b], double(i - a) / double(b - a));
+    const std::optional<SE3d> T = run.estimator->Localize(run.input.frames[i], guess);
+    run.poses[i] = T.value_or(guess);
+    run.has_pose[i] = T.has_value();
+    run.status[i] = T ? "localized_before_window" : "not_localized";
+  }
+}
+
+nlohmann::json FrameJson(const window::FrameResult& r, const nlohmann::json& times) {
+  return {{"keyframe", r.keyframe},
+          {"tracked_points", r.tracked_points},
+          {"tracked_lines", r.tracked_lines},
+          {"pnp_fallback", r.pnp_fallback},
+          {"new_points", r.new_points},
+          {"new_lines", r.new_lines},
+          {"window_points", r.window_points},
+          {"window_lines", r.window_lines},
+          {"window_keyframes", r.window_keyframes},
+          {"parallax_px", r.parallax_px},
+          {"tracking_iterations", r.tracking_iterations},
+          {"window_iterations", r.window_iterations},
+          {"initial_cost", r.initial_cost},
+          {"final_cost", r.final_cost},
+          {"residuals", r.residuals},
+          {"culled_observations", r.culled_observations},
+          {"marginalized_keyframes", r.marginalized_keyframes},
+          {"marginalized_landmarks", r.marginalized_landmarks},
+          {"dropped_point_observations", r.dropped_point_observations},
+          {"dropped_line_observations", r.dropped_line_observations},
+          {"prior_rank", r.prior_rank},
+          {"marginalization_failed", r.marginalization_failed},
+          {"ms", times}};
+}
+
+// Per frame: window AddFrame (predict, track with the PnP fallback, keyframe, triangulate,
+// solve, marginalize). Returns whether the frame was tracked.
+bool TrackFrame(VoRun& run, int i) {
+  BasicStageClock<window::WindowStage, window::kNumWindowStages> ms;
+  const double t0 = ThreadCpuMs();
+  const window::FrameResult r = run.estimator->AddFrame(run.input.frames[i], ms.Observer());
+  const double frame_ms = ThreadCpuMs() - t0;
+  run.frame_total += frame_ms;
+  ++run.window_frames;
+  for (int s = 0; s < window::kNumWindowStages; ++s) run.stage_total[s] += ms.ms(s);
+  const bool finite = r.T_w_c.translation().allFinite() && r.T_w_c.rotation().coeffs().allFinite();
+  const bool ok = r.ok && finite;
+  run.poses[i] = finite ? r.T_w_c : run.poses[std::max(i - 1, 0)];
+  run.has_pose[i] = ok;
+  run.status[i] = ok ? "tracked" : "lost";
+  run.keyframe[i] = r.keyframe;
+  run.keyframes += r.keyframe;
+  run.lost += !ok;
+  run.pnp_recoveries += r.pnp_fallback && ok;
+  run.marginalized += r.marginalized_keyframes;
+  run.failed_marginalizations += r.marginalization_failed;
+  nlohmann::json times = {{"total", frame_ms}};
+  for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = ms.ms(s);
+  run.per_frame[i] = FrameJson(r, times);
+  return ok;
+}
+
+// --draw: the frame's overlay (image input only; the observations are in the undistorted
+// pinhole, so a --sensor image is undistorted again first).
+void DrawFrame(const VoRun& run, int i) {
+  if (run.args.draw.empty() || run.input.info[i].is_null() || !run.input.info[i].count("image"))
+    return;
+  const std::string path = run.input.info[i]["image"].get<std::string>();
+  cv::Mat gray;
+  try {
+    gray = io::ReadGrayImage(path);
+  } catch (const io::IoError&) {
+    return;  // skipped image: already warned about
+  }
+  if (run.input.undistorter) gray = run.input.undistorter->Undistort(gray);
+  const cv::Mat canvas = DrawVoFrame(gray, run.input.K, run.input.frames[i], run.poses[i],
+                                     run.estimator->Points(), run.estimator->Lines());
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", i);
+  const std::string out = run.args.draw + "/" + name;
+  if (!cv::imwrite(out, canvas)) throw io::IoError(out, "cannot write the overlay image");
+}
+
+void WriteJson(const VoRun& run, double read_ms, double total_ms) {
+  nlohmann::json out;
+  nlohmann::json list = nlohmann::json::array();
+  for (int i = 0; i < run.n; ++i) {
+    nlohmann::json f = run.per_frame[i].is_null() ? nlohmann::json::object() : run.per_frame[i];
+    if (!run.input.info[i].is_null()) f["frontend"] = run.input.info[i];
+    f["frame"] = i;
+    f["time"] = run.input.frames[i].time;
+    f["status"] = run.status[i];
+    f["keyframe"] = static_cast<bool>(run.keyframe[i]);
+    list.push_back(f);
+  }
+  const int wf = run.window_frames;
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < window::kNumWindowStages; ++s)
+    stages[kStageNames[s]] = wf > 0 ? run.stage_total[s] / wf : 0.0;
+  out["frames"] = list;
+  out["summary"] = {
+      {"frames", run.n},
+      {"initialization_frames", run.maps.front()["frames"]},
+      {"maps", run.maps},
+      {"reinitializations", static_cast<int>(run.maps.size()) - 1},
+      {"keyframes", run.keyframes},
+      {"lost_frames", run.lost},
+      {"pnp_recoveries", run.pnp_recoveries},
+      {"marginalized_keyframes", run.marginalized},
+      {"failed_marginalizations", run.failed_marginalizations},
+      {"use_lines", run.config.window.use_lines},
+      {"keep_marginalized_lines", run.config.window.keep_marginalized_lines},
+      {"prior_on_poses_only",
+       run.config.window.prior_blocks == window::SlidingWindowOptions::PriorBlocks::kPoses},
+      {"point_stride", run.args.point_stride},
+      {"read_ms", read_ms},
+      {"frontend_mean_ms", run.input.frontend_ms},
+      {"skipped_images", run.input.warnings.size()},
+      {"initialization_ms", run.init_ms},
+      {"mean_frame_ms", wf > 0 ? run.frame_total / wf : 0.0},
+      {"mean_stage_ms", stages},
+      {"total_wall_ms", total_ms},
+      {"frames_per_second_cpu", run.frame_total > 0 ? 1e3 * wf / run.frame_total : 0.0}};
+  io::WriteFileAtomically(run.args.json, out.dump(1) + "\n");
+}
+
+// initialise, localise the frames before the window, then per frame the window; after
+// max_lost_frames lost frames in a row a new map starts (re-initialisation) from the last one.
+int Run(const VoArgs& a, const VoConfig& config_in) {
+  // One thread: OpenCV's own pool (KLT, corners, RANSAC) off; Ceres runs with num_threads = 1.
+  cv::setNumThreads(0);
+  // The front end allocates MB-sized temporaries per image (corner responses, pyramids): served
+  // by fresh mmaps, each page faults again every frame (measured: 40 ms of 48 in the points
+  // stage of --no-lines on KITTI). Keep them on the heap.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 128 << 20);
   const double t_start = WallMs();
-  const VoInput input = ReadInput(a);
-  const std::string source = a.images.images.empty() ? a.features : a.images.images;
-  const std::vector<window::FrameInput>& frames = input.frames;
-  const int n = static_cast<int>(frames.size());
-  if (n < 3) throw io::IoError(source, "needs at least 3 frames, has " + std::to_string(n));
+  const VoInput input = ReadInput(a, config_in);
+  VoConfig config = config_in;
+  config.window.point_sigma_px = config.window.line_sigma_px = std::max(input.pixel_sigma, 0.5);
+  VoRun run(a, config, input);
+  if (run.n < 3)
+    throw io::IoError(run.source, "needs at least 3 frames, has " + std::to_string(run.n));
   for (const std::string& w : input.warnings)
     std::cerr << "plucker vo: warning: skipped " << w << "\n";
   const double read_ms = WallMs() - t_start;
+  if (!a.draw.empty()) std::filesystem::create_directories(a.draw);
 
-  window::SlidingWindowOptions options;
-  options.window_size = a.window;
-  options.max_iterations = a.iterations;
-  options.use_lines = !a.no_lines;
-  options.keep_marginalized_lines = !a.drop_marginalized_lines;
-  options.first_estimate_jacobians = !a.no_fej;
-  options.condition_far_lines = !a.no_line_conditioning;
-  options.line_triangulation.min_plane_angle_deg = a.line_min_angle_deg;
-  options.loss_scale = a.loss_scale;
-  options.point_sigma_px = options.line_sigma_px = std::max(input.pixel_sigma, 0.5);
-  window::SlidingWindowEstimator estimator(input.K, options);
-
-  std::vector<SE3d> poses(n);
-  std::vector<nlohmann::json> per_frame(n);
-  std::vector<std::string> status(n, "not_localized");
-  // Initialise: the first pair (a, b) with enough parallax.
-  const double t_init = ThreadCpuMs();
-  int first = -1, second = -1;
-  std::string init_message = "no frame pair";
-  for (int i = 0; i + 1 < n && first < 0; ++i) {
-    for (int j = i + 1; j < n && j <= i + a.max_init_gap; ++j) {
-      const window::TwoViewResult tv =
-          window::InitializeTwoView(input.K, frames[i].points, frames[j].points);
-      if (!tv.ok) {
-        init_message = "frames " + std::to_string(i) + "-" + std::to_string(j) + ": " + tv.message;
-        continue;
+  double last_progress = WallMs();
+  int from = 0;
+  while (from < run.n) {
+    std::string message;
+    const std::optional<std::pair<int, int>> ab = StartMap(run, from, &message);
+    if (!ab) {
+      if (run.maps.empty()) {
+        throw io::IoError(
+            a.features.empty() ? run.source : a.features,
+            "cannot initialise (" + message + "): too few point tracks with parallax");
       }
-      const window::InitializationResult init =
-          estimator.Initialize(frames[i], SE3d(), frames[j], tv.T_b_a.Inverse());
-      if (!init.ok) {
-        init_message = "frames " + std::to_string(i) + "-" + std::to_string(j) +
-                       ": too few landmarks triangulated";
-        continue;
-      }
-      first = i;
-      second = j;
-      poses[i] = init.T_w_a;
-      poses[j] = init.T_w_b;
+      std::cerr << "plucker vo: warning: cannot re-initialise after frame " << from - 1 << " ("
+                << message << "); the remaining frames keep the last pose\n";
+      for (int i = from; i < run.n; ++i) run.poses[i] = run.poses[std::max(from - 1, 0)];
       break;
     }
-  }
-  const double init_ms = ThreadCpuMs() - t_init;
-  if (first < 0) {
-    throw io::IoError(
-        source, "cannot initialise (" + init_message + "): too few point tracks with parallax");
-  }
-  status[first] = status[second] = "initialization";
-  for (int i = 0; i < second; ++i) {
-    if (i == first) continue;
-    const SE3d guess = i < first ? poses[first]
-                                 : Interpolate(poses[first], poses[second],
-                                               double(i - first) / double(second - first));
-    const std::optional<SE3d> T = estimator.Localize(frames[i], guess);
-    poses[i] = T.value_or(guess);
-    status[i] = T ? "localized_before_window" : "not_localized";
-  }
-
-  int keyframes = 2, lost = 0, marginalized = 0, failed_marginalizations = 0;
-  std::array<double, window::kNumWindowStages> stage_total{};
-  double frame_total = 0.0;
-  double last_progress = WallMs();
-  for (int i = second + 1; i < n; ++i) {
-    BasicStageClock<window::WindowStage, window::kNumWindowStages> ms;
-    const double t0 = ThreadCpuMs();
-    const window::FrameResult r = estimator.AddFrame(frames[i], ms.Observer());
-    const double frame_ms = ThreadCpuMs() - t0;
-    frame_total += frame_ms;
-    for (int s = 0; s < window::kNumWindowStages; ++s) stage_total[s] += ms.ms(s);
-    const bool finite =
-        r.T_w_c.translation().allFinite() && r.T_w_c.rotation().coeffs().allFinite();
-    poses[i] = finite ? r.T_w_c : poses[i - 1];
-    status[i] = r.ok && finite ? "tracked" : "lost";
-    keyframes += r.keyframe;
-    lost += !(r.ok && finite);
-    marginalized += r.marginalized_keyframes;
-    failed_marginalizations += r.marginalization_failed;
-    nlohmann::json times = {{"total", frame_ms}};
-    for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = ms.ms(s);
-    per_frame[i] = {{"keyframe", r.keyframe},
-                    {"tracked_points", r.tracked_points},
-                    {"tracked_lines", r.tracked_lines},
-                    {"new_points", r.new_points},
-                    {"new_lines", r.new_lines},
-                    {"window_points", r.window_points},
-                    {"window_lines", r.window_lines},
-                    {"window_keyframes", r.window_keyframes},
-                    {"parallax_px", r.parallax_px},
-                    {"tracking_iterations", r.tracking_iterations},
-                    {"window_iterations", r.window_iterations},
-                    {"initial_cost", r.initial_cost},
-                    {"final_cost", r.final_cost},
-                    {"residuals", r.residuals},
-                    {"culled_observations", r.culled_observations},
-                    {"marginalized_keyframes", r.marginalized_keyframes},
-                    {"marginalized_landmarks", r.marginalized_landmarks},
-                    {"dropped_line_observations", r.dropped_line_observations},
-                    {"prior_rank", r.prior_rank},
-                    {"marginalization_failed", r.marginalization_failed},
-                    {"ms", times}};
-    const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i + 1 == n)) {
-      last_progress = now;
-      std::cerr << "\rplucker vo: frame " << (i + 1) << "/" << n << "  keyframes " << keyframes
-                << "  points " << r.window_points << "  lines " << r.window_lines << "   "
-                << std::flush;
+    if (run.maps.size() > 1 && !a.quiet) {
+      std::cerr << "\nplucker vo: re-initialised on frames " << ab->first << " and " << ab->second
+                << "\n";
+    }
+    LocalizeBeforeWindow(run, from, ab->first, ab->second);
+    for (int i = from; i <= ab->second; ++i) DrawFrame(run, i);
+    from = run.n;
+    int lost_in_a_row = 0;
+    for (int i = ab->second + 1; i < run.n; ++i) {
+      lost_in_a_row = TrackFrame(run, i) ? 0 : lost_in_a_row + 1;
+      DrawFrame(run, i);
+      const double now = WallMs();
+      if (!a.quiet && (now - last_progress > 500.0 || i + 1 == run.n)) {
+        last_progress = now;
+        std::cerr << "\rplucker vo: frame " << (i + 1) << "/" << run.n << "  keyframes "
+                  << run.keyframes << "  lost " << run.lost << "   " << std::flush;
+      }
+      if (lost_in_a_row >= a.max_lost_frames && i + 2 < run.n) {
+        from = i + 1;
+        break;
+      }
     }
   }
   if (!a.quiet) std::cerr << "\n";
-  io::WriteKittiPoses(a.out, poses);
-  const double total_ms = WallMs() - t_start;
-  const int window_frames = n - second - 1;
-  if (!a.json.empty()) {
-    nlohmann::json out;
-    nlohmann::json list = nlohmann::json::array();
-    for (int i = 0; i < n; ++i) {
-      nlohmann::json f = per_frame[i].is_null() ? nlohmann::json::object() : per_frame[i];
-      if (!input.info[i].is_null()) f["frontend"] = input.info[i];
-      f["frame"] = i;
-      f["time"] = frames[i].time;
-      f["status"] = status[i];
-      if (i == first || i == second) f["keyframe"] = true;
-      list.push_back(f);
-    }
-    nlohmann::json stages = nlohmann::json::object();
-    for (int s = 0; s < window::kNumWindowStages; ++s)
-      stages[kStageNames[s]] = window_frames > 0 ? stage_total[s] / window_frames : 0.0;
-    out["frames"] = list;
-    out["summary"] = {
-        {"frames", n},
-        {"initialization_frames", {first, second}},
-        {"keyframes", keyframes},
-        {"lost_frames", lost},
-        {"marginalized_keyframes", marginalized},
-        {"failed_marginalizations", failed_marginalizations},
-        {"use_lines", !a.no_lines},
-        {"keep_marginalized_lines", !a.drop_marginalized_lines},
-        {"point_stride", a.point_stride},
-        {"read_ms", read_ms},
-        {"frontend_mean_ms", input.frontend_ms},
-        {"skipped_images", input.warnings.size()},
-        {"initialization_ms", init_ms},
-        {"mean_frame_ms", window_frames > 0 ? frame_total / window_frames : 0.0},
-        {"mean_stage_ms", stages},
-        {"total_wall_ms", total_ms},
-        {"frames_per_second_cpu", frame_total > 0 ? 1e3 * window_frames / frame_total : 0.0}};
-    io::WriteFileAtomically(a.json, out.dump(1) + "\n");
-  }
+  io::WriteKittiPoses(a.out, run.poses);
+  if (!a.json.empty()) WriteJson(run, read_ms, WallMs() - t_start);
   if (!a.quiet) {
-    std::cerr << "plucker vo: " << n << " frames (initialised on frames " << first << " and "
-              << second << "), " << keyframes << " keyframes, " << lost << " lost, " << std::fixed
-              << std::setprecision(2) << (window_frames > 0 ? frame_total / window_frames : 0.0)
+    const auto& first = run.maps.front()["frames"];
+    std::cerr << "plucker vo: " << run.n << " frames (initialised on frames " << first[0] << " and "
+              << first[1] << "), " << run.keyframes << " keyframes, " << run.lost << " lost, "
+              << run.maps.size() - 1 << " re-initialisations, " << std::fixed
+              << std::setprecision(2)
+              << (run.window_frames > 0 ? run.frame_total / run.window_frames : 0.0)
               << " ms CPU per frame; wrote " << a.out << "\n";
   }
-  if (lost > 0) {
-    std::cerr << "plucker vo: warning: " << lost
+  if (run.lost > 0) {
+    std::cerr << "plucker vo: warning: " << run.lost
               << " frames could not be tracked (their pose is the constant-velocity prediction, or "
                  "the previous pose)\n";
   }
@@ -307,12 +465,13 @@ void RegisterVo(CLI::App& app, int* exit_code) {
                   "Use the point tracks whose id is a multiple of this (scarce points)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--window", args->window, "Keyframes in the window")
-      ->check(CLI::Range(2, 1000))
-      ->capture_default_str();
-  cmd->add_option("--iterations", args->iterations, "Solver iterations per window solve")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
+  CLI::Option* window = cmd->add_option("--window", args->window, "Keyframes in the window")
+                            ->check(CLI::Range(2, 1000))
+                            ->capture_default_str();
+  CLI::Option* iterations =
+      cmd->add_option("--iterations", args->iterations, "Solver iterations per window solve")
+          ->check(CLI::Range(1, 1000))
+          ->capture_default_str();
   CLI::Option* line_min_angle =
       cmd->add_option(
              "--line-min-angle", args->line_min_angle_deg,
@@ -320,18 +479,24 @@ void RegisterVo(CLI::App& app, int* exit_code) {
              "--images)")
           ->check(CLI::Range(0.0, 90.0))
           ->capture_default_str();
-  cmd->add_option("--loss-scale", args->loss_scale, "Huber loss scale (in pixel sigmas)")
-      ->check(CLI::PositiveNumber)
+  CLI::Option* loss_scale =
+      cmd->add_option("--loss-scale", args->loss_scale, "Huber loss scale (in pixel sigmas)")
+          ->check(CLI::PositiveNumber)
+          ->capture_default_str();
+  cmd->add_option("--config", args->config,
+                  "YAML file of window and front-end options (keys: docs/vo.md); "
+                  "flags given on the command line override it")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--draw", args->draw,
+                  "Folder for one PNG per frame: tracked points and segments, reprojected 3D lines "
+                  "(--images only)");
+  cmd->add_option("--max-lost", args->max_lost_frames,
+                  "Lost frames in a row before a new two-view start (re-initialisation)")
+      ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
-  cmd->callback([args, exit_code, line_min_angle]() {
+  cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
     try {
-      // Real images (a car or a walker moving forward): lines along the motion are seen from
-      // nearly the same plane; 10 deg keeps them out (on the KITTI clip 5 deg made the ATE 7x
-      // worse than points alone, 10 deg equal to it).
-      if (!args->images.images.empty() && line_min_angle->count() == 0) {
-        args->line_min_angle_deg = 10.0;
-      }
       const VoImageSource& im = args->images;
       if (args->features.empty() == im.images.empty()) {
         throw std::invalid_argument("give --features DIR or --images DIR");
@@ -339,7 +504,20 @@ void RegisterVo(CLI::App& app, int* exit_code) {
       if (!im.images.empty() && im.calib.empty() == im.sensor.empty()) {
         throw std::invalid_argument("--images needs --calib calib.txt or --sensor sensor.yaml");
       }
-      *exit_code = Run(*args);
+      // Defaults (images: ImageVoConfig), then the file, then the flags given.
+      VoConfig config = im.images.empty() ? FeaturesVoConfig() : ImageVoConfig();
+      if (!args->config.empty()) LoadVoConfig(args->config, &config);
+      window::SlidingWindowOptions& w = config.window;
+      if (window->count()) w.window_size = args->window;
+      if (iterations->count()) w.max_iterations = args->iterations;
+      if (loss_scale->count()) w.loss_scale = args->loss_scale;
+      if (line_min_angle->count())
+        w.line_triangulation.min_plane_angle_deg = args->line_min_angle_deg;
+      if (args->no_lines) w.use_lines = false;
+      if (args->drop_marginalized_lines) w.keep_marginalized_lines = false;
+      if (args->no_fej) w.first_estimate_jacobians = false;
+      if (args->no_line_conditioning) w.condition_far_lines = false;
+      *exit_code = Run(*args, config);
     } catch (const std::exception& e) {
       std::cerr << "plucker vo: error: " << e.what() << "\n";
       *exit_code = 1;

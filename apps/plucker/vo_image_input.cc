@@ -22,14 +22,14 @@ const char* kFrontendStages[vision::kNumFrontendStages] = {"points", "detection"
 struct ImageCamera {
   PinholeIntrinsics K;
   int width = 0, height = 0;
-  std::unique_ptr<vision::Undistorter> undistorter;
+  std::shared_ptr<vision::Undistorter> undistorter;
 };
 
 ImageCamera ReadCamera(const VoImageSource& s, const std::string& first_image) {
   ImageCamera c;
   if (!s.sensor.empty()) {
     const io::EurocCamera euroc = io::ReadEurocCamera(s.sensor);
-    c.undistorter = std::make_unique<vision::Undistorter>(euroc.camera);
+    c.undistorter = std::make_shared<vision::Undistorter>(euroc.camera);
     c.K = c.undistorter->ideal_camera().K;
     c.width = euroc.camera.width;
     c.height = euroc.camera.height;
@@ -68,7 +68,8 @@ VoImageInput ReadVoImages(const VoImageSource& s) {
   const ImageCamera camera = ReadCamera(s, files.front());
   VoImageInput in;
   in.K = camera.K;
-  vision::ImageFrontendOptions options;
+  in.undistorter = camera.undistorter;
+  vision::ImageFrontendOptions options = s.frontend;
   options.use_lines = s.use_lines;
   vision::ImageFrontend frontend(camera.K, options);
   std::array<double, vision::kNumFrontendStages> total{};

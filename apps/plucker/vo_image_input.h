@@ -3,11 +3,14 @@
 // front end's stage times measured here (the library reads no clock).
 #pragma once
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "plucker/geometry/camera.h"
+#include "plucker/vision/image_frontend.h"
+#include "plucker/vision/undistort.h"
 #include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
@@ -20,6 +23,7 @@ struct VoImageSource {
   double frame_rate_hz = 10.0;  // frame times i / rate (the folder has none)
   bool use_lines = true;
   bool quiet = false;
+  vision::ImageFrontendOptions frontend;  // use_lines is set from the field above
 };
 
 struct VoImageInput {
@@ -28,6 +32,7 @@ struct VoImageInput {
   std::vector<nlohmann::json> info;   // per frame: front-end ms by stage, counts, skipped reason
   std::vector<std::string> warnings;  // one per skipped image
   nlohmann::json mean_stage_ms;       // front end, per frame
+  std::shared_ptr<const vision::Undistorter> undistorter;  // --sensor: distorted to ideal
 };
 
 // Throws io::IoError for a folder without images or a calibration that does not parse. An image

@@ -1,12 +1,21 @@
 #include "plucker/vision/image_frontend.h"
 
+#include <algorithm>
 #include <optional>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
 
 namespace plucker {
 namespace vision {
 
 ImageFrontend::ImageFrontend(const PinholeIntrinsics& K, const ImageFrontendOptions& options)
-    : K_(K), options_(options), point_tracker_(options.points, K), line_tracker_(options.lines) {}
+    : K_(K), options_(options), point_tracker_(options.points, K), line_tracker_(options.lines) {
+  if (options.max_segments < 0)
+    throw std::invalid_argument("ImageFrontend: max_segments must be >= 0");
+  if (!(options.detection_scale > 0.0 && options.detection_scale <= 1.0))
+    throw std::invalid_argument("ImageFrontend: detection_scale must be in (0, 1]");
+}
 
 ImageFrontendFrame ImageFrontend::Process(const cv::Mat& gray, const FrontendObserver& observer) {
   auto announce = [&](FrontendStage s) {
@@ -19,10 +28,22 @@ ImageFrontendFrame ImageFrontend::Process(const cv::Mat& gray, const FrontendObs
   out.point_stats = points.stats;
   if (options_.use_lines) {
     announce(FrontendStage::kDetection);
-    LineDetection detection = DetectLineSegments(gray, options_.detector);
+    const double scale = options_.detection_scale;
+    cv::Mat small;
+    if (scale < 1.0) cv::resize(gray, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    LineDetection detection = DetectLineSegments(scale < 1.0 ? small : gray, options_.detector);
     std::vector<Segment2d> segments;
-    for (const Segment2d& s : detection.segments) {
+    for (Segment2d s : detection.segments) {
+      // Pixel centres: x_full + 0.5 = (x_small + 0.5) / scale.
+      if (scale < 1.0) s = ((s.array() + 0.5) / scale - 0.5).matrix();
       if ((s.tail<2>() - s.head<2>()).norm() >= options_.min_segment_px) segments.push_back(s);
+    }
+    if (options_.max_segments > 0 && static_cast<int>(segments.size()) > options_.max_segments) {
+      auto length = [](const Segment2d& s) { return (s.tail<2>() - s.head<2>()).squaredNorm(); };
+      std::nth_element(
+          segments.begin(), segments.begin() + options_.max_segments, segments.end(),
+          [&](const Segment2d& a, const Segment2d& b) { return length(a) > length(b); });
+      segments.resize(options_.max_segments);
     }
     out.detection_stats = detection.stats;
     announce(FrontendStage::kLines);

@@ -29,6 +29,13 @@ struct ImageFrontendOptions {
   LineTrackerOptions lines;
   bool use_lines = true;
   double min_segment_px = 30.0;  // shorter segments are not tracked (poorly conditioned)
+  // At most this many segments per image, the longest (0: all). Description, flow prediction
+  // and matching cost grow with the count (about 480 segments of >= 30 px per KITTI image).
+  int max_segments = 0;
+  // Segments are detected on the image resized by this factor (0 < s <= 1; INTER_AREA) and
+  // mapped back to full-resolution pixels; description and tracking stay at full resolution.
+  // 0.5 quarters the detection time (EDLines scans every pixel).
+  double detection_scale = 1.0;
 };
 
 struct ImageFrontendFrame {

@@ -6,6 +6,8 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <opencv2/calib3d.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -127,6 +129,8 @@ struct SlidingWindowEstimator::Impl {
   PoseManifold pose_manifold;
   LineManifold line_manifold;
   SE3d last_T_w_c, prev_T_w_c;
+  // Tracks whose landmark went into a poses-only prior: never triangulated again.
+  std::set<int> retired_points, retired_lines;
   int frames_seen = 0;
   int next_index = 0;
 
@@ -298,6 +302,34 @@ struct SlidingWindowEstimator::Impl {
     return result;
   }
 
+  // The pose from PnP RANSAC of the frame's point tracks against the window's points, or nullopt.
+  std::optional<SE3d> PnpPose(const Frame& f) const {
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (const auto& p : f.input.points) {
+      const auto it = points.find(p.point_id);
+      if (it == points.end()) continue;
+      object.emplace_back(it->second->p[0], it->second->p[1], it->second->p[2]);
+      image.emplace_back(p.uv.x(), p.uv.y());
+    }
+    if (static_cast<int>(object.size()) < std::max(opt.pnp_min_inliers, 6)) return std::nullopt;
+    const cv::Matx33d Kcv(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    const bool ok = cv::solvePnPRansac(object, image, Kcv, cv::noArray(), rvec, tvec, false, 200,
+                                       static_cast<float>(opt.pnp_threshold_px), 0.999, inliers,
+                                       cv::SOLVEPNP_EPNP);
+    if (!ok || static_cast<int>(inliers.size()) < opt.pnp_min_inliers) return std::nullopt;
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    Eigen::Matrix3d R_c_w;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R_c_w(r, c) = R(r, c);
+    const Eigen::Vector3d t_c_w(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    if (!R_c_w.allFinite() || !t_c_w.allFinite()) return std::nullopt;
+    return SE3d(Eigen::Quaterniond(R_c_w), t_c_w).Inverse();
+  }
+
   // --- keyframe policy -------------------------------------------------------------------------
 
   double Parallax(const Frame& f) const {
@@ -348,7 +380,7 @@ struct SlidingWindowEstimator::Impl {
   // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
   void Triangulate(const Frame& f, int* new_points, int* new_lines) {
     for (const auto& obs : f.input.points) {
-      if (points.count(obs.point_id)) continue;
+      if (points.count(obs.point_id) || retired_points.count(obs.point_id)) continue;
       std::vector<SE3d> poses;
       std::vector<Eigen::Vector2d> uvs;
       for (const auto& kf : keyframes) {
@@ -369,7 +401,7 @@ struct SlidingWindowEstimator::Impl {
     }
     if (!opt.use_lines) return;
     for (const auto& obs : f.input.segments) {
-      if (lines.count(obs.line_id)) continue;
+      if (lines.count(obs.line_id) || retired_lines.count(obs.line_id)) continue;
       std::vector<LineObservation> views;
       for (const auto& kf : keyframes) {
         for (std::size_t i = 0; i < kf->input.segments.size(); ++i) {
@@ -603,28 +635,185 @@ struct SlidingWindowEstimator::Impl {
         result->marginalization_failed = true;
       }
     }
-    // Install the new prior and its first estimates.
-    fe.clear();
-    prior = std::move(next);
-    prior_blocks = next_blocks;
-    if (prior) {
-      result->prior_rank = prior->Statistics().prior_rank;
-      for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
-        if (opt.first_estimate_landmarks || KindOf(prior_blocks[i]) == BlockKind::kPose)
-          fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
-      }
-      if (prior->Statistics().prior_rank == 0) {
-        prior.reset();
-        prior_blocks.clear();
-        fe.clear();
-      }
-    }
+    InstallPrior(std::move(next), next_blocks, result);
     keyframes.pop_front();
     for (int id : remove_points) points.erase(id);
     for (int id : remove_lines) lines.erase(id);
     result->marginalized_keyframes = 1;
     result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
     RemoveWeakLandmarks();
+  }
+
+  // PriorBlocks::kPoses: see the option. Landmarks of k0 whose track has ended are eliminated one
+  // by one into small priors on their observers' poses (at the first estimates), then k0's pose
+  // is eliminated from those, its pose prior and the previous prior.
+  void MarginalizeOldestIntoPoses(FrameResult* result) {
+    Frame* f0 = keyframes.front().get();
+    const Frame* newest = keyframes.back().get();
+    std::set<int> points_newest, lines_newest, points_kept, lines_kept;
+    for (std::size_t k = 1; k < keyframes.size(); ++k) {
+      const Frame& f = *keyframes[k];
+      const bool is_newest = &f == newest;
+      for (std::size_t i = 0; i < f.input.points.size(); ++i) {
+        if (f.point_outlier[i]) continue;
+        points_kept.insert(f.input.points[i].point_id);
+        if (is_newest) points_newest.insert(f.input.points[i].point_id);
+      }
+      for (std::size_t i = 0; i < f.input.segments.size(); ++i) {
+        if (f.segment_outlier[i]) continue;
+        lines_kept.insert(f.input.segments[i].line_id);
+        if (is_newest) lines_newest.insert(f.input.segments[i].line_id);
+      }
+    }
+    // Landmarks leaving the window: observed by no remaining keyframe, or by k0 and no longer
+    // tracked by the newest keyframe.
+    std::set<const double*> leaving;
+    std::vector<int> remove_points, remove_lines;
+    for (std::size_t i = 0; i < f0->input.points.size(); ++i) {
+      const int id = f0->input.points[i].point_id;
+      if (f0->point_outlier[i] || !points.count(id)) continue;
+      if (points_newest.count(id)) {
+        ++result->dropped_point_observations;
+      } else {
+        leaving.insert(points[id]->p);
+        retired_points.insert(id);
+      }
+    }
+    for (std::size_t i = 0; i < f0->input.segments.size(); ++i) {
+      const int id = f0->input.segments[i].line_id;
+      if (f0->segment_outlier[i] || !lines.count(id)) continue;
+      if (lines_newest.count(id) || !opt.keep_marginalized_lines) {
+        ++result->dropped_line_observations;
+      } else {
+        leaving.insert(lines[id]->block);
+        retired_lines.insert(id);
+      }
+    }
+    for (const auto& [id, p] : points)
+      if (!points_kept.count(id) || leaving.count(p->p)) remove_points.push_back(id);
+    for (const auto& [id, l] : lines)
+      if (!lines_kept.count(id) || leaving.count(l->block)) remove_lines.push_back(id);
+
+    // Every window residual of the leaving landmarks, grouped by landmark.
+    std::vector<ResidualSpec> all;
+    for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &all);
+    std::map<const double*, std::vector<ResidualSpec*>> by_landmark;
+    for (ResidualSpec& r : all) {
+      if (r.frame == nullptr || !leaving.count(r.blocks[1])) continue;
+      std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
+      double res[2];
+      if (r.cost->Evaluate(params.data(), res, nullptr)) by_landmark[r.blocks[1]].push_back(&r);
+    }
+    // Scratch copies of the poses at their first estimates (FEJ), else their current values.
+    std::map<double*, std::vector<double>> scratch;
+    auto scratch_of = [&](double* pose) {
+      auto it = scratch.find(pose);
+      if (it != scratch.end()) return it->second.data();
+      const auto fe_it = fe.find(pose);
+      std::vector<double> v = opt.first_estimate_jacobians && fe_it != fe.end()
+                                  ? fe_it->second
+                                  : std::vector<double>(pose, pose + 7);
+      return scratch.emplace(pose, std::move(v)).first->second.data();
+    };
+    std::map<const double*, double*> to_real;
+    std::vector<std::unique_ptr<MarginalizationPrior>> landmark_priors;
+    for (auto& [landmark, list] : by_landmark) {
+      const BlockKind kind = KindOf(landmark);
+      const int n = AmbientSize(kind);
+      std::vector<double> lm(landmark, landmark + n);
+      std::vector<MarginalizationBlock> blocks = {{lm.data(), n, ManifoldOf(kind)}};
+      std::vector<MarginalizationResidual> mres;
+      for (ResidualSpec* r : list) {
+        double* pose = scratch_of(r->blocks[0]);
+        to_real[pose] = r->blocks[0];
+        if (std::none_of(blocks.begin(), blocks.end(),
+                         [&](const MarginalizationBlock& b) { return b.values == pose; }))
+          blocks.push_back({pose, 7, &pose_manifold});
+        mres.push_back({r->cost.get(), loss.get(), {pose, lm.data()}});
+      }
+      try {
+        auto p = std::make_unique<MarginalizationPrior>(
+            MarginalizationPrior::Build(blocks, mres, {lm.data()}, opt.marginalization));
+        if (p->Statistics().prior_rank > 0) landmark_priors.push_back(std::move(p));
+      } catch (const std::invalid_argument&) {
+        // Its information is lost; the landmark leaves anyway.
+      }
+    }
+    // k0's pose out of the landmark priors, its pose prior and the previous prior.
+    std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+    std::vector<MarginalizationResidual> mres;
+    for (const auto& p : landmark_priors) {
+      costs.emplace_back(p->CreateCostFunction());
+      MarginalizationResidual m{costs.back().get(), nullptr, {}};
+      for (const MarginalizationBlock& b : p->KeptBlocks()) m.blocks.push_back(b.values);
+      mres.push_back(std::move(m));
+    }
+    std::vector<ResidualSpec> own;
+    AppendFrameResiduals(f0, false, false, &own);
+    if (prior) {
+      ResidualSpec r;
+      r.cost.reset(prior->CreateCostFunction());
+      r.blocks = prior_blocks;
+      own.push_back(std::move(r));
+    }
+    for (ResidualSpec& r : own) {
+      MarginalizationResidual m{r.cost.get(), nullptr, {}};
+      for (double* b : r.blocks) {
+        double* s = scratch_of(b);
+        to_real[s] = b;
+        m.blocks.push_back(s);
+      }
+      mres.push_back(std::move(m));
+    }
+    std::vector<MarginalizationBlock> blocks;
+    for (auto& [real, values] : scratch) blocks.push_back({values.data(), 7, &pose_manifold});
+    std::unique_ptr<MarginalizationPrior> next;
+    std::vector<double*> next_blocks;
+    // Only k0's pose touched (e.g. every leaving landmark was seen by k0 alone): nothing remains
+    // for a prior to constrain.
+    const double* f0_scratch = scratch.count(f0->pose) ? scratch.at(f0->pose).data() : nullptr;
+    const bool others =
+        std::any_of(mres.begin(), mres.end(), [&](const MarginalizationResidual& m) {
+          return std::any_of(m.blocks.begin(), m.blocks.end(),
+                             [&](const double* b) { return b != f0_scratch; });
+        });
+    if (f0_scratch != nullptr && others) {
+      try {
+        next = std::make_unique<MarginalizationPrior>(MarginalizationPrior::Build(
+            blocks, mres, {scratch.at(f0->pose).data()}, opt.marginalization));
+        for (const MarginalizationBlock& b : next->KeptBlocks())
+          next_blocks.push_back(to_real.at(b.values));
+      } catch (const std::invalid_argument&) {
+        next.reset();
+        result->marginalization_failed = true;
+      }
+    }
+    InstallPrior(std::move(next), next_blocks, result);
+    keyframes.pop_front();
+    for (int id : remove_points) points.erase(id);
+    for (int id : remove_lines) lines.erase(id);
+    result->marginalized_keyframes = 1;
+    result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
+    RemoveWeakLandmarks();
+  }
+
+  // The new prior and its first estimates (none if empty).
+  void InstallPrior(std::unique_ptr<MarginalizationPrior> next,
+                    const std::vector<double*>& next_blocks, FrameResult* result) {
+    fe.clear();
+    prior = std::move(next);
+    prior_blocks = next_blocks;
+    if (!prior) return;
+    result->prior_rank = prior->Statistics().prior_rank;
+    for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
+      if (opt.first_estimate_landmarks || KindOf(prior_blocks[i]) == BlockKind::kPose)
+        fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
+    }
+    if (prior->Statistics().prior_rank == 0) {
+      prior.reset();
+      prior_blocks.clear();
+      fe.clear();
+    }
   }
 
   void FillCounts(FrameResult* r) const {
@@ -665,6 +854,8 @@ InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, con
   m.prior.reset();
   m.prior_blocks.clear();
   m.fe.clear();
+  m.retired_points.clear();
+  m.retired_lines.clear();
   InitializationResult result;
   m.keyframes.push_back(m.MakeFrame(a, T_w_a));
   m.keyframes.push_back(m.MakeFrame(b, T_w_b));
@@ -708,7 +899,16 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
   stage(WindowStage::kTracking);
-  const Impl::TrackResult track = m.Track(frame.get(), predicted);
+  Impl::TrackResult track = m.Track(frame.get(), predicted);
+  if (!track.ok && m.opt.pnp_fallback) {
+    const std::optional<SE3d> pnp = m.PnpPose(*frame);
+    result.pnp_fallback = true;
+    if (pnp) {
+      std::fill(frame->point_outlier.begin(), frame->point_outlier.end(), 0);
+      std::fill(frame->segment_outlier.begin(), frame->segment_outlier.end(), 0);
+      track = m.Track(frame.get(), *pnp);
+    }
+  }
   result.tracking_iterations = track.iterations;
   result.tracked_points = track.points;
   result.tracked_lines = track.lines;
@@ -730,7 +930,11 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     result.T_w_c = m.keyframes.back()->T_w_c();
     if (static_cast<int>(m.keyframes.size()) > m.opt.window_size) {
       stage(WindowStage::kMarginalization);
-      m.MarginalizeOldest(&result);
+      if (m.opt.prior_blocks == SlidingWindowOptions::PriorBlocks::kPoses) {
+        m.MarginalizeOldestIntoPoses(&result);
+      } else {
+        m.MarginalizeOldest(&result);
+      }
     }
   }
   m.prev_T_w_c = m.last_T_w_c;

@@ -48,13 +48,13 @@
 #include <optional>
 #include <vector>
 
+#include "plucker/factors/anchored_line_factor.h"
 #include "plucker/factors/marginalization.h"
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/line_triangulation.h"
 #include "plucker/geometry/point_triangulation.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/sensor/camera_observations.h"
-#include "plucker/factors/anchored_line_factor.h"
 
 namespace plucker {
 namespace window {
@@ -88,6 +88,22 @@ struct SlidingWindowOptions {
   // only the lines doubled the ATE of the lines-kept runs (0.094 vs 0.044 m, 2 seeds).
   bool first_estimate_landmarks = true;
   bool condition_far_lines = true;  // false: lines stored in the world frame
+  // The prior's blocks. kLandmarks (default): the prior keeps k0's observations of the landmarks
+  // that stay, so it lives on those landmarks: exact, but dense over hundreds of landmarks, which
+  // makes every later window solve (Schur complement) and marginalization cost O(landmarks^3).
+  // kPoses (the DSO pattern): a landmark observed by k0 whose track has ended (the newest
+  // keyframe does not observe it) is marginalized with all its window observations, landmark by
+  // landmark (a small Schur complement each), and retired (its track id is never triangulated
+  // again); a landmark still tracked by the newest keyframe loses k0's observation. The prior
+  // lives on poses only (at most 6 x window_size), and the window solve stays sparse.
+  enum class PriorBlocks { kLandmarks, kPoses };
+  PriorBlocks prior_blocks = PriorBlocks::kLandmarks;
+  // When motion-only tracking fails (too few inliers from the prediction, e.g. after a jump):
+  // PnP RANSAC (OpenCV EPnP) of the frame's point tracks against the window's 3D points, then
+  // tracking again from that pose.
+  bool pnp_fallback = true;
+  double pnp_threshold_px = 3.0;  // RANSAC inlier threshold
+  int pnp_min_inliers = 10;
   PointTriangulationOptions point_triangulation;
   // New lines need 5 deg between back-projected planes (2 deg let lines nearly parallel to the
   // motion in: the corridor's ATE went from 0.43 m to 0.13 m with 5).
@@ -115,7 +131,8 @@ struct FrameInput {
 };
 
 struct FrameResult {
-  bool ok = false;  // false: too little to track; T_w_c is the prediction
+  bool ok = false;            // false: too little to track; T_w_c is the prediction
+  bool pnp_fallback = false;  // tracking from the prediction failed and PnP RANSAC was tried
   SE3d T_w_c;
   bool keyframe = false;
   int tracked_points = 0;  // observations of existing landmarks kept as inliers
@@ -133,7 +150,8 @@ struct FrameResult {
   int culled_observations = 0;
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
-  int dropped_line_observations = 0;  // keep_marginalized_lines = false
+  int dropped_line_observations = 0;   // keep_marginalized_lines = false
+  int dropped_point_observations = 0;  // PriorBlocks::kPoses: k0's observations of live tracks
   int prior_rank = 0;
   bool marginalization_failed = false;  // the prior was reset (Build threw)
   double parallax_px = 0.0;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -21,6 +22,9 @@ struct WindowRun {
   int failed_marginalizations = 0;
   int lost = 0;
   int line_obs_dropped = 0;
+  int point_obs_dropped = 0;
+  int marginalized_landmarks = 0;
+  int max_prior_rank = 0;
   double mean_nees = 0.0;
   int nees_count = 0;
   bool initialized = false;
@@ -69,6 +73,9 @@ WindowRun RunWindow(const sim::CameraSimulation& s, const std::vector<FrameInput
     run.failed_marginalizations += r.marginalization_failed;
     run.lost += !r.ok;
     run.line_obs_dropped += r.dropped_line_observations;
+    run.point_obs_dropped += r.dropped_point_observations;
+    run.marginalized_landmarks += r.marginalized_landmarks;
+    run.max_prior_rank = std::max(run.max_prior_rank, r.prior_rank);
     if (nees && r.keyframe) {
       const auto cov = estimator.NewestPoseCovariance();
       if (cov) {
@@ -176,6 +183,89 @@ TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
   EXPECT_GE(run.nees_count, 8);
   EXPECT_GT(run.mean_nees, 1.0);
   EXPECT_LT(run.mean_nees, 18.0);
+}
+
+// The poses-only prior (PriorBlocks::kPoses, the fast mode of `plucker vo` on images): landmarks
+// whose track ended are marginalized one by one, the prior lives on the window's poses only
+// (rank <= 6 x (window - 1)). Same room as RecoversPosesOnASimulatedRoom, both modes; and the
+// NEES run of NeesOfTheNewestPoseIsInASaneBand with the poses-only prior.
+TEST(SlidingWindowEstimator, PosesOnlyPriorRecoversPosesAndStaysConsistent) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 40, 1);
+  SlidingWindowOptions landmarks;
+  SlidingWindowOptions poses;
+  poses.prior_blocks = SlidingWindowOptions::PriorBlocks::kPoses;
+  const WindowRun a = RunWindow(s, Inputs(s, 1), landmarks);
+  const WindowRun b = RunWindow(s, Inputs(s, 1), poses);
+  ASSERT_TRUE(a.initialized && b.initialized);
+  std::printf(
+      "room 40 frames, all points + lines: ATE landmark prior %.4f m (max rank %d), poses-only "
+      "prior %.4f m (max rank %d, %d landmarks marginalized, %d point observations of live "
+      "tracks dropped)\n",
+      a.ate_m, a.max_prior_rank, b.ate_m, b.max_prior_rank, b.marginalized_landmarks,
+      b.point_obs_dropped);
+  EXPECT_GT(b.marginalized, 0);
+  EXPECT_EQ(b.failed_marginalizations, 0);
+  EXPECT_EQ(b.lost, 0);
+  EXPECT_GT(b.marginalized_landmarks, 0);
+  EXPECT_GT(b.max_prior_rank, 0);
+  EXPECT_LE(b.max_prior_rank, 6 * (poses.window_size - 1));
+  EXPECT_LT(b.ate_m, 0.05);
+
+  const sim::CameraSimulation n = Simulate(sim::SceneKind::kRoom, 40, 3);
+  std::vector<FrameInput> in = Inputs(n, 2);
+  const double sigma_rot = 2.0 * M_PI / 180.0, sigma_t = 0.10;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Identity();
+  S.topLeftCorner<3, 3>() /= sigma_rot;
+  S.bottomRightCorner<3, 3>() /= sigma_t;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    Vector6d d;
+    for (int k = 0; k < 6; ++k) d(k) = normal(rng) * (k < 3 ? sigma_rot : sigma_t);
+    in[i].T_w_c_prior = n.T_w_c_gt[i].Plus(d);
+    in[i].prior_sqrt_information = S;
+  }
+  poses.window_size = 6;
+  poses.loss = LossKind::kTrivial;
+  const WindowRun c = RunWindow(n, in, poses, 3, true);
+  ASSERT_TRUE(c.initialized);
+  std::printf("poses-only prior, room 40 frames with pose priors: mean NEES %.2f over %d (6)\n",
+              c.mean_nees, c.nees_count);
+  EXPECT_GE(c.nees_count, 8);
+  EXPECT_GT(c.mean_nees, 1.0);
+  EXPECT_LT(c.mean_nees, 18.0);
+}
+
+// PnP fallback: a frame whose prediction is far off (rotated 90 deg, moved 2 m) cannot be tracked
+// from it; PnP RANSAC against the window's points recovers its pose. Without the fallback the
+// frame is lost.
+TEST(SlidingWindowEstimator, PnpFallbackRecoversAFrameWithABadPrediction) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 20, 1);
+  std::vector<FrameInput> in = Inputs(s, 1);
+  const int bad = 12;
+  Vector6d jump;
+  jump << 0.0, M_PI / 2.0, 0.0, 2.0, 0.0, 0.0;
+  in[bad].T_w_c_guess = s.T_w_c_gt[bad].Plus(jump);
+  for (const bool fallback : {true, false}) {
+    SlidingWindowOptions options;
+    options.pnp_fallback = fallback;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    ASSERT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    FrameResult r;
+    for (int i = 4; i <= bad; ++i) r = estimator.AddFrame(in[i]);
+    const double error = (r.T_w_c.translation() - s.T_w_c_gt[bad].translation()).norm();
+    std::printf("bad prediction, PnP fallback %s: ok %d, tried %d, position error %.4f m\n",
+                fallback ? "on" : "off", r.ok, r.pnp_fallback, error);
+    if (fallback) {
+      EXPECT_TRUE(r.pnp_fallback);
+      EXPECT_TRUE(r.ok);
+      EXPECT_LT(error, 0.05);
+      EXPECT_GT(r.tracked_points, 20);
+    } else {
+      EXPECT_FALSE(r.pnp_fallback);
+      EXPECT_FALSE(r.ok && error < 0.05);
+    }
+  }
 }
 
 }  // namespace

@@ -1,0 +1,30 @@
+// `plucker vo --draw DIR`: one PNG per frame with the frame's observations and the window's
+// landmarks drawn on the image (app-side OpenCV drawing; the window layer does no I/O).
+//   green dot:     point track with a landmark in the window (inlier of the frame's pose),
+//   yellow dot:    point track without a landmark (not triangulated yet, or culled);
+//   blue segment:  detected and tracked segment;
+//   red segment:   the window's 3D line of that track reprojected with the frame's pose (the
+//                  observed endpoints projected onto the reprojected image line).
+#pragma once
+
+#include <map>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "plucker/geometry/camera.h"
+#include "plucker/geometry/plucker_line.h"
+#include "plucker/geometry/se3.h"
+#include "plucker/window/sliding_window_estimator.h"
+
+namespace plucker {
+namespace app {
+
+// The overlay of one frame on `gray` (8-bit, the observations' image); returns a BGR image.
+cv::Mat DrawVoFrame(const cv::Mat& gray, const PinholeIntrinsics& K,
+                    const window::FrameInput& frame, const SE3d& T_w_c,
+                    const std::map<int, Eigen::Vector3d>& points_w,
+                    const std::map<int, Line6d>& lines_w);
+
+}  // namespace app
+}  // namespace plucker
