@@ -175,6 +175,15 @@ struct PriorResidualT {
   }
 };
 
+// A prior that keeps no block (everything was marginalized) has no cost function.
+void RequireBlocks(const std::vector<MarginalizationBlock>& kept) {
+  if (kept.empty()) {
+    throw std::logic_error(
+        "MarginalizationPrior: the prior keeps no block (everything was "
+        "marginalized): there is no cost function to add");
+  }
+}
+
 std::shared_ptr<PriorData> MakePriorData(const std::vector<MarginalizationBlock>& kept,
                                          const std::vector<std::vector<double>>& x0,
                                          const Eigen::MatrixXd& J, const Eigen::VectorXd& r) {
@@ -310,6 +319,11 @@ MarginalizationPrior MarginalizationPrior::Build(
   }
   // Schur complement onto the kept blocks, with pseudo-inverses.
   const int k = n - m;
+  MarginalizationPrior prior;
+  prior.stats_.residual_blocks = static_cast<int>(residuals.size());
+  prior.stats_.marginalized_dimension = m;
+  prior.stats_.kept_dimension = k;
+  if (k == 0) return prior;  // everything marginalized: an empty prior (rank 0)
   const Spectrum mm = PositivePart(H.topLeftCorner(m, m), options.eigenvalue_floor);
   const Eigen::MatrixXd H_mm_inv =
       mm.vectors * mm.values.cwiseInverse().asDiagonal() * mm.vectors.transpose();
@@ -318,7 +332,6 @@ MarginalizationPrior MarginalizationPrior::Build(
   const Eigen::VectorXd g_star = g.tail(k) - H_km * (H_mm_inv * g.head(m));
   const Spectrum kk = PositivePart(H_star, options.eigenvalue_floor);
 
-  MarginalizationPrior prior;
   for (int i = m_blocks; i < static_cast<int>(order.size()); ++i) {
     const MarginalizationBlock& b = blocks[order[i]];
     prior.kept_.push_back(b);
@@ -326,18 +339,17 @@ MarginalizationPrior MarginalizationPrior::Build(
   }
   prior.J_ = kk.values.cwiseSqrt().asDiagonal() * kk.vectors.transpose();
   prior.r_ = kk.values.cwiseSqrt().cwiseInverse().asDiagonal() * (kk.vectors.transpose() * g_star);
-  prior.stats_.residual_blocks = static_cast<int>(residuals.size());
-  prior.stats_.marginalized_dimension = m;
-  prior.stats_.kept_dimension = k;
   prior.stats_.prior_rank = static_cast<int>(kk.values.size());
   return prior;
 }
 
 ceres::CostFunction* MarginalizationPrior::CreateCostFunction() const {
+  RequireBlocks(kept_);
   return new PriorFactor(MakePriorData(kept_, x0_, J_, r_));
 }
 
 ceres::CostFunction* MarginalizationPrior::CreateAutoDiffCostFunction() const {
+  RequireBlocks(kept_);
   auto* f = new ceres::DynamicAutoDiffCostFunction<PriorResidualT, 8>(
       new PriorResidualT{MakePriorData(kept_, x0_, J_, r_)});
   for (const MarginalizationBlock& b : kept_) f->AddParameterBlock(b.ambient_size);

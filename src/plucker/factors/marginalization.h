@@ -57,7 +57,9 @@ class MarginalizationPrior {
  public:
   // Throws std::invalid_argument for a residual block that references an undeclared block, an
   // unsupported manifold, a marginalized block that no residual touches, or a residual or
-  // Jacobian that cannot be evaluated (non-finite).
+  // Jacobian that cannot be evaluated (non-finite). Marginalizing every block that the residuals
+  // touch gives an empty prior (no kept block, rank 0; the cost-function factories then throw
+  // std::logic_error).
   static MarginalizationPrior Build(const std::vector<MarginalizationBlock>& blocks,
                                     const std::vector<MarginalizationResidual>& residuals,
                                     const std::vector<double*>& marginalize,

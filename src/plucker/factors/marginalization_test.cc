@@ -214,5 +214,26 @@ TEST(MarginalizationPrior, RefusesBadInput) {
                std::invalid_argument);
 }
 
+TEST(MarginalizationPrior, MarginalizingEveryBlockGivesAnEmptyPrior) {
+  verify::Rng rng(2);
+  auto p = verify::MakeMarginalizationProblem(rng, 2, 3, 2);
+  std::vector<double*> all;
+  int dimension = 0;
+  for (const MarginalizationBlock& b : p->blocks) {
+    all.push_back(b.values);
+    dimension += b.manifold ? b.manifold->TangentSize() : b.ambient_size;
+  }
+  ASSERT_EQ(all.size(), 7u);
+  const MarginalizationPrior prior = MarginalizationPrior::Build(p->blocks, p->residuals, all);
+  EXPECT_TRUE(prior.KeptBlocks().empty());
+  EXPECT_EQ(prior.Statistics().prior_rank, 0);
+  EXPECT_EQ(prior.Statistics().kept_dimension, 0);
+  EXPECT_EQ(prior.Statistics().marginalized_dimension, dimension);
+  EXPECT_EQ(prior.Residual().size(), 0);
+  EXPECT_THROW(std::unique_ptr<ceres::CostFunction>(prior.CreateCostFunction()), std::logic_error);
+  EXPECT_THROW(std::unique_ptr<ceres::CostFunction>(prior.CreateAutoDiffCostFunction()),
+               std::logic_error);
+}
+
 }  // namespace
 }  // namespace plucker
