@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   plucker::app::RegisterConvert(app, &exit_code);
   plucker::app::RegisterLines(app, &exit_code);
   plucker::app::RegisterVo(app, &exit_code);
+  plucker::app::RegisterVio(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
