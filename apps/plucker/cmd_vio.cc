@@ -354,8 +354,16 @@ int Run(const VioArgs& a) {
   const double t_start = WallMs();
   VioConfig cfg = a.cfg;
   if (a.no_lines) cfg.use_lines = false;
-  const VioInput in = a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride)
-                                      : ReadVioEuroc(a.euroc, cfg.use_lines, a.quiet);
+  VioInput in = a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride)
+                                : ReadVioEuroc(a.euroc, cfg.use_lines, a.quiet);
+  // Frames without image motion: the window's zero-motion update (a standing body).
+  const std::vector<inertial::ImageMotionFlag> motion = ImageMotion(in, cfg.image_still_px);
+  for (std::size_t i = 1, k = 0; i < in.frames.size(); ++i) {
+    while (k < motion.size() && motion[k].t < in.frames[i].time) ++k;
+    in.frames[i].stationary =
+        k < motion.size() && motion[k].t == in.frames[i].time && motion[k].still;
+  }
+  if (in.frames.size() > 1) in.frames[0].stationary = in.frames[1].stationary;
   const int n = static_cast<int>(in.frames.size());
   if (n < 3) throw io::IoError(in.source, "needs at least 3 frames, has " + std::to_string(n));
   for (const std::string& w : in.warnings) std::cerr << "plucker vio: warning: " << w << "\n";
@@ -392,7 +400,8 @@ int Run(const VioArgs& a) {
     if (!T_w_b[f]) T_w_b[f] = T_w_b[start.first];
   }
 
-  int keyframes = 2, imu_only = 0, skipped = 0, marginalized = 0, failed_marginalizations = 0;
+  int keyframes = 2, imu_only = 0, stationary = 0, skipped = 0, marginalized = 0,
+      failed_marginalizations = 0;
   std::array<double, window::kNumWindowStages> stage_total{};
   double frame_total = 0.0, chi2_total = 0.0;
   double last_progress = WallMs();
@@ -417,9 +426,10 @@ int Run(const VioArgs& a) {
       continue;
     }
     T_w_b[i] = r.state.T_w_b;
-    status[i] = r.imu_only ? "imu_only" : "tracked";
+    status[i] = r.imu_only ? (in.frames[i].stationary ? "stationary" : "imu_only") : "tracked";
     keyframes += r.keyframe;
-    imu_only += r.imu_only;
+    imu_only += r.imu_only && !in.frames[i].stationary;
+    stationary += in.frames[i].stationary;
     marginalized += r.marginalized_keyframes;
     failed_marginalizations += r.marginalization_failed;
     chi2_total += r.imu_chi2;
@@ -485,6 +495,7 @@ int Run(const VioArgs& a) {
         {"poses_written", poses.size()},
         {"keyframes", keyframes},
         {"imu_only_frames", imu_only},
+        {"stationary_frames", stationary},
         {"skipped_frames", skipped},
         {"marginalized_keyframes", marginalized},
         {"failed_marginalizations", failed_marginalizations},

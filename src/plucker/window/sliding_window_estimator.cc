@@ -84,6 +84,23 @@ struct VectorPriorResidual {
   }
 };
 
+// Zero motion between two keyframes of a standing body (9 | 7 T_w_b_i, 7 T_w_b_j, 3 v_j):
+// r = [Log(R_i^T R_j) / sigma_R, (p_j - p_i) / sigma_p, v_j / sigma_v].
+struct ZeroMotionResidual {
+  double sigma_R, sigma_p, sigma_v;
+  template <typename T>
+  bool operator()(const T* pose_i, const T* pose_j, const T* v_j, T* residual) const {
+    const SE3<T> Ti = SE3<T>::FromParameters(pose_i), Tj = SE3<T>::FromParameters(pose_j);
+    Eigen::Quaternion<T> dq = Ti.rotation().conjugate() * Tj.rotation();
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    Eigen::Map<Eigen::Matrix<T, 9, 1>> r(residual);
+    r.template head<3>() = LogUnitQuaternion<T>(dq) / T(sigma_R);
+    r.template segment<3>(3) = (Tj.translation() - Ti.translation()) / T(sigma_p);
+    r.template tail<3>() = Eigen::Map<const Eigen::Matrix<T, 3, 1>>(v_j) / T(sigma_v);
+    return true;
+  }
+};
+
 // A visual-inertial factor (2 | 7 T_w_b, 7 T_b_c, kN) with the extrinsic held: (2 | 7, kN).
 template <int kN>
 class HeldExtrinsicCost final : public ceres::SizedCostFunction<2, 7, kN> {
@@ -210,6 +227,7 @@ struct SlidingWindowEstimator::Impl {
     f->input.time = input.time;
     f->input.T_w_c_prior = input.T_w_c_prior;
     f->input.prior_sqrt_information = input.prior_sqrt_information;
+    f->input.stationary = input.stationary;
     for (const auto& p : input.points)
       if (ValidPoint(p)) f->input.points.push_back(p);
     if (opt.use_lines) {
@@ -269,6 +287,16 @@ struct SlidingWindowEstimator::Impl {
       r.robust = false;
       r.blocks = {p->pose, p->v, p->bias, f->pose, f->v, f->bias};
       out->push_back(std::move(r));
+      if (f->input.stationary && p->input.stationary) {
+        const InertialOptions& o = *opt.inertial;
+        ResidualSpec z;
+        z.cost.reset(new ceres::AutoDiffCostFunction<ZeroMotionResidual, 9, 7, 7, 3>(
+            new ZeroMotionResidual{o.stationary_rotation_sigma, o.stationary_position_sigma,
+                                   o.stationary_velocity_sigma}));
+        z.robust = false;
+        z.blocks = {p->pose, f->pose, f->v};
+        out->push_back(std::move(z));
+      }
     }
     if (f->state_prior) {
       const InertialOptions& o = *opt.inertial;
@@ -945,7 +973,13 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   // samples do not cover the frame).
   std::unique_ptr<ImuPreintegration> imu;
   InertialState imu_state;
-  if (m.opt.inertial) imu_state = m.Predict(input.time, &imu);
+  if (m.opt.inertial) {
+    imu_state = m.Predict(input.time, &imu);
+    if (input.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
+      imu_state.T_w_b = m.keyframes.back()->State().T_w_b;
+      imu_state.v_w.setZero();
+    }
+  }
   const SE3d predicted = input.T_w_c_guess ? *input.T_w_c_guess
                          : m.opt.inertial  ? imu_state.T_w_b * m.opt.inertial->T_b_c
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);

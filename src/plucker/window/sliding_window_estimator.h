@@ -91,6 +91,13 @@ struct InertialOptions {
   double repropagate_gyro_bias = 2e-3;   // rad/s
   double repropagate_accel_bias = 0.05;  // m/s^2
   double max_keyframe_interval_s = 1.0;
+  // A frame the caller marks stationary (FrameInput::stationary: no image motion) keeps the
+  // newest keyframe's pose instead of the IMU prediction, and as a keyframe gets a zero-motion
+  // factor to the previous keyframe (same pose, zero velocity) with these standard deviations:
+  // without it a standing body's pose is the double integral of the vibration.
+  double stationary_position_sigma = 1e-3;  // m
+  double stationary_rotation_sigma = 1e-4;  // rad
+  double stationary_velocity_sigma = 1e-2;  // m/s
 };
 
 struct SlidingWindowOptions {
@@ -152,6 +159,7 @@ struct FrameInput {
   // translation), kept while the frame is in the window and marginalized with it.
   std::optional<SE3d> T_w_c_prior;
   Eigen::Matrix<double, 6, 6> prior_sqrt_information = Eigen::Matrix<double, 6, 6>::Identity();
+  bool stationary = false;  // inertial mode: the caller saw no image motion (see InertialOptions)
 };
 
 struct FrameResult {
