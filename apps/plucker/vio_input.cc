@@ -25,12 +25,35 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
   in.pixel_sigma = seq.observation_model.pixel_sigma;
   in.imu = seq.imu;
   if (in.imu.empty()) throw io::IoError(dir + "/imu.txt", "no IMU samples");
-  in.frames.resize(seq.frame_times.size());
-  for (std::size_t i = 0; i < in.frames.size(); ++i) in.frames[i].time = seq.frame_times[i];
+  std::vector<window::FrameInput> frames(seq.frame_times.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = seq.frame_times[i];
   for (const auto& p : seq.points)
-    if (p.point_id >= 0 && p.point_id % point_stride == 0) in.frames[p.frame].points.push_back(p);
-  for (const auto& s : seq.segments) in.frames[s.frame].segments.push_back(s);
-  if (seq.ground_truth) in.gt_T_w_b = seq.ground_truth->T_w_b;
+    if (p.point_id >= 0 && p.point_id % point_stride == 0) frames[p.frame].points.push_back(p);
+  for (const auto& s : seq.segments) frames[s.frame].segments.push_back(s);
+  // The IMU's coverage of each frame (gaps, before the first or after the last sample): frames
+  // not covered are skipped and named (the EuRoC reader's check; its rows are frame numbers).
+  std::vector<io::EurocFrame> covered;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    covered.push_back({frames[i].time, "", static_cast<int>(i)});
+  std::vector<std::string> skipped, warnings;
+  io::CheckImuCoverage(in.imu, {}, dir + "/frames.txt", &covered, &skipped, &warnings);
+  for (std::string s : skipped) {  // "DIR/frames.txt:I: problem", I the frame number
+    s.insert(dir.size() + 11, " frame");
+    s[dir.size() + 17] = ' ';
+    in.warnings.push_back("skipped " + s);
+  }
+  for (std::string w : warnings) {
+    const std::size_t at = w.find("imu0/data.csv");
+    if (at != std::string::npos) w.replace(at, 13, dir + "/imu.txt");
+    in.warnings.push_back(w);
+  }
+  for (const io::EurocFrame& f : covered) {
+    in.frames.push_back(std::move(frames[f.line]));
+    if (seq.ground_truth) {
+      if (!in.gt_T_w_b) in.gt_T_w_b.emplace();
+      in.gt_T_w_b->push_back(seq.ground_truth->T_w_b[f.line]);
+    }
+  }
   return in;
 }
 
