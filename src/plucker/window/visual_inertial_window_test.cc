@@ -142,6 +142,39 @@ TEST(VisualInertialWindow, MemsNoiseGivesASmallPositionYawAteAndASaneNees) {
   EXPECT_LT(run.mean_nees, 30.0);
 }
 
+// Bad IMU input: samples that go back are refused; a frame the samples do not cover yet is
+// refused (std::invalid_argument) without changing the window, which goes on once they arrive.
+TEST(VisualInertialWindow, UncoveredFramesAreRefusedAndTheWindowGoesOn) {
+  const sim::CameraSimulation s = Simulate(30, true, 2);
+  SlidingWindowOptions options;
+  options.inertial = InertialOptions();
+  options.inertial->T_b_c = s.rig.T_b_c;
+  std::vector<FrameInput> in(s.frame_times.size());
+  for (std::size_t i = 0; i < in.size(); ++i) in[i].time = s.frame_times[i];
+  for (const auto& p : s.points) in[p.frame].points.push_back(p);
+  SlidingWindowEstimator estimator(s.rig.K, options);
+  const double t_cut = s.frame_times[10] + 0.01;
+  std::vector<sensor::ImuSample> early, late;
+  for (const auto& m : s.imu) (m.t <= t_cut ? early : late).push_back(m);
+  estimator.AddImu(early);
+  EXPECT_THROW(estimator.AddImu({early.front()}), std::invalid_argument);
+  ASSERT_TRUE(estimator.InitializeInertial(in[0], TrueState(s, 0), in[3], TrueState(s, 3)).ok);
+  for (int i = 4; i <= 10; ++i) ASSERT_NO_THROW(estimator.AddFrame(in[i]));
+  const std::size_t keyframes = estimator.KeyframeStates().size();
+  EXPECT_THROW(estimator.AddFrame(in[11]), std::invalid_argument);
+  EXPECT_EQ(estimator.KeyframeStates().size(), keyframes);
+  estimator.AddImu(late);
+  int finite = 0;
+  for (std::size_t i = 11; i < in.size(); ++i) {
+    const FrameResult r = estimator.AddFrame(in[i]);
+    finite += r.state.T_w_b.translation().allFinite() && r.state.v_w.allFinite();
+    EXPECT_LT((r.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 0.2) << i;
+  }
+  EXPECT_EQ(finite, static_cast<int>(in.size()) - 11);
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, SlidingWindowOptions()).AddImu(late),
+               std::logic_error);
+}
+
 }  // namespace
 }  // namespace window
 }  // namespace plucker
