@@ -397,6 +397,62 @@ if [ -f "$T/strecha_gt.txt" ]; then
     "$PLUCKER" eval sfm --gt "$STRECHA/.." --est "$T/sfm_gt_gap.txt" --json
   expect eval-sfm-wrong-count nonzero "sfm_gaps.txt: the estimate has 2 cameras, the ground truth 11" -- \
     "$PLUCKER" eval sfm --gt "$STRECHA" --est "$T/sfm_gaps.txt"
+
+# Visual-inertial odometry on the camera simulation (dynamic initialisation), and its bad input:
+# an IMU gap (frames skipped and named), a configuration with an unknown option.
+expect sim-camera-vio 0 "" -- "$PLUCKER" sim camera --out "$T/vcam" --scene room --frames 40
+expect vio 0 "40 frames, dynamic initialisation" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio.tum" --json "$T/vio.json" --no-lines \
+  --point-stride 2 --plot "$T/vio.svg"
+expect vio-rows 0 "^40$" -- bash -c "grep -vc '^#' '$T/vio.tum'"
+expect vio-json 0 '"method": "dynamic"' -- cat "$T/vio.json"
+expect vio-plot 0 "<svg" -- head -c 400 "$T/vio.svg"
+expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"
+cp -r "$T/vcam" "$T/vgap"
+awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"
+sed -i "s/^counts \([0-9]*\) [0-9]*/counts \1 $(grep -vc '^#' "$T/vgap/imu.txt")/" "$T/vgap/rig.txt"
+expect vio-imu-gap 0 "skipped .*frames.txt frame 11: no IMU coverage" -- \
+  "$PLUCKER" vio --features "$T/vgap" --out "$T/vgap.tum" --json "$T/vgap.json" --no-lines \
+  --point-stride 2
+expect vio-imu-gap-rows 0 "^37$" -- bash -c "grep -vc '^#' '$T/vgap.tum'"
+expect vio-imu-gap-json 0 "frame 12: no IMU coverage" -- cat "$T/vgap.json"
+printf 'window: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
+expect vio-bad-config nonzero "vio_bad.yaml: unknown option 'windw'" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_bad.yaml"
+expect vio-no-source nonzero "give --features DIR or --euroc DIR" -- "$PLUCKER" vio --out "$T/x.tum"
+expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \
+  "$PLUCKER" vio --features "$T/nothing" --out "$T/vio_x.tum"
+# EuRoC: the first 20 real frames (static initialisation at rest), then bad input: a missing
+# image and a repeated timestamp (skipped and named), a sensor.yaml without T_BS, camera times
+# outside the IMU's (errors naming the file).
+EUROC="$(dirname "$0")/../../shared/data/euroc-v101-head"
+if [ -d "$EUROC/mav0" ]; then
+  V="$T/veuroc/mav0"
+  mkdir -p "$V/cam0/data"
+  cp -r "$EUROC/mav0/imu0" "$V/"
+  cp "$EUROC/mav0/cam0/sensor.yaml" "$V/cam0/"
+  head -21 "$EUROC/mav0/cam0/data.csv" > "$V/cam0/data.csv"
+  for f in $(tail -n +2 "$V/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
+    cp "$EUROC/mav0/cam0/data/$f" "$V/cam0/data/"
+  done
+  expect vio-euroc 0 "20 frames, static initialisation" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc.tum" --json "$T/veuroc.json" --no-lines
+  expect vio-euroc-rows 0 "^20$" -- bash -c "grep -vc '^#' '$T/veuroc.tum'"
+  rm "$V/cam0/data/$(sed -n 5p "$V/cam0/data.csv" | cut -d, -f2 | tr -d '\r')"
+  sed -n 8p "$V/cam0/data.csv" >> "$V/cam0/data.csv"
+  expect vio-euroc-skipped 0 "skipped .*data.csv:5: .*" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc2.tum" --no-lines --quiet
+  expect vio-euroc-skipped-rows 0 "^19$" -- bash -c "grep -vc '^#' '$T/veuroc2.tum'"
+  cp -r "$T/veuroc" "$T/veuroc_bad"
+  sed -i '/T_BS/,+6d' "$T/veuroc_bad/mav0/cam0/sensor.yaml"
+  expect vio-euroc-missing-field nonzero "cam0/sensor.yaml.*T_BS" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_bad" --out "$T/vio_x.tum"
+  cp -r "$T/veuroc" "$T/veuroc_clock"
+  sed -i 's/^14/15/' "$T/veuroc_clock/mav0/cam0/data.csv"
+  expect vio-euroc-no-overlap nonzero "cam0/data.csv.*do not overlap" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_clock" --out "$T/vio_x.tum"
+else
+  echo "skip vio-euroc-*: no EuRoC head at $EUROC"
 fi
 
 echo "$pass passed, $fail failed"

@@ -23,6 +23,7 @@ void RegisterEvalLines(CLI::App& eval, int* exit_code);      // cmd_eval_lines.c
 void AddLinesTrack(CLI::App* lines, int* exit_code);      // cmd_lines_track.cc (lines match|track)
 void RegisterEvalTracks(CLI::App& eval, int* exit_code);  // cmd_lines_track.cc (eval tracks)
 void RegisterVo(CLI::App& app, int* exit_code);           // cmd_vo.cc
+void RegisterVio(CLI::App& app, int* exit_code);          // cmd_vio.cc
 void RegisterSfm(CLI::App& app, int* exit_code);          // cmd_sfm.cc
 void RegisterEvalSfm(CLI::App& eval, int* exit_code);     // cmd_eval_sfm.cc (eval sfm)
 

@@ -10,6 +10,7 @@ extern "C" void PluckerRegisterVisionCommands(CLI::App* app, int* exit_code) {
   RegisterLines(*app, exit_code);
   RegisterVo(*app, exit_code);
   RegisterSfm(*app, exit_code);
+  RegisterVio(*app, exit_code);
   RegisterBenchLines(*app->get_subcommand("bench"), exit_code);
   RegisterEvalTracks(*app->get_subcommand("eval"), exit_code);
 }

@@ -4,7 +4,9 @@
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/pose_manifold.h"
@@ -72,6 +74,107 @@ TEST(AnchoredLineFactor, JacobiansMatchAutodiffAndCentralDifferences) {
   std::printf("window.anchored_line: %d samples, %s\n", stats.samples, stats.WorstErrors().c_str());
   EXPECT_TRUE(stats.passed()) << stats.first_failure;
   EXPECT_GE(stats.samples, 190);
+}
+
+// The link T_w_c = T_w_b T_b_c: its tangent Jacobians against central differences through
+// SE3::Plus / Minus (the PoseManifold's).
+TEST(CameraFromBody, TangentJacobiansMatchCentralDifferences) {
+  verify::Rng rng(7);
+  int checked = 0;
+  for (int i = 0; i < 100; ++i) {
+    const SE3d T_w_b = verify::RandomPose(rng), T_b_c = verify::RandomPose(rng);
+    Matrix6d J_wb, J_bc;
+    const SE3d T_w_c = CameraFromBody(T_w_b, T_b_c, &J_wb, &J_bc);
+    ASSERT_LT((T_w_c.Matrix() - (T_w_b * T_b_c).Matrix()).norm(), 1e-12);
+    Matrix6d N_wb, N_bc;
+    const double h = 1e-6;
+    for (int k = 0; k < 6; ++k) {
+      const Vector6d d = Vector6d::Unit(k) * h;
+      N_wb.col(k) =
+          ((T_w_b.Plus(d) * T_b_c).Minus(T_w_c) - (T_w_b.Plus(-d) * T_b_c).Minus(T_w_c)) / (2 * h);
+      N_bc.col(k) =
+          ((T_w_b * T_b_c.Plus(d)).Minus(T_w_c) - (T_w_b * T_b_c.Plus(-d)).Minus(T_w_c)) / (2 * h);
+    }
+    EXPECT_LT((J_wb - N_wb).norm(), 1e-6 * (1.0 + J_wb.norm())) << "sample " << i;
+    EXPECT_LT((J_bc - N_bc).norm(), 1e-6 * (1.0 + J_bc.norm())) << "sample " << i;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 100);
+}
+
+TEST(AnchoredLineFactorVI, JacobiansMatchAutodiffAndCentralDifferences) {
+  static const PoseManifold pose_manifold;
+  static const LineManifold line_manifold;
+  verify::JacobianCheckOptions o;
+  o.samples = 200;
+  const verify::JacobianCheckStats stats =
+      verify::RunCostFunctionCheck("window.anchored_line_vi", 0, o, [](verify::Rng& rng, int i) {
+        const SE3d T_w_c = verify::RandomPose(rng);
+        const SE3d T_b_c = verify::RandomPose(rng);
+        auto in_front = [&] {
+          return Eigen::Vector3d(verify::Uniform(rng, -3, 3), verify::Uniform(rng, -2, 2),
+                                 verify::Uniform(rng, 2, 10));
+        };
+        const Eigen::Vector3d p1 = T_w_c * in_front(), p2 = T_w_c * in_front();
+        const Line6d L_w = LineFromPoints<double>(p1, p2);
+        const LineAnchor anchor =
+            MakeLineAnchor(L_w, T_w_c.translation() + verify::RandomVector(rng));
+        Eigen::Vector2d s, e;
+        ProjectSegment(T_w_c, p1, p2, &s, &e);
+        s += verify::RandomVector(rng).head<2>();
+        e += verify::RandomVector(rng).head<2>();
+        verify::CostFunctionSample sample;
+        const Eigen::Matrix2d S = Eigen::Matrix2d::Identity();
+        sample.analytic.reset(AnchoredLineFactorVI::Create(kK, s, e, S, anchor));
+        sample.autodiff.reset(AnchoredLineFactorVI::CreateAutoDiff(kK, s, e, S, anchor));
+        Eigen::VectorXd pose_b(7), pose_bc(7);
+        (T_w_c * T_b_c.Inverse()).ToParameters(pose_b.data());
+        T_b_c.ToParameters(pose_bc.data());
+        sample.x = {pose_b, pose_bc, LineBlock(AnchoredFromWorld(L_w, anchor))};
+        sample.manifolds = {&pose_manifold, &pose_manifold, &line_manifold};
+        sample.what = "sample " + std::to_string(i);
+        return sample;
+      });
+  std::printf("window.anchored_line_vi: %d samples, %s\n", stats.samples,
+              stats.WorstErrors().c_str());
+  EXPECT_TRUE(stats.passed()) << stats.first_failure;
+  EXPECT_GE(stats.samples, 190);
+}
+
+TEST(AnchoredLineFactorVI, EqualsTheCameraFactorOnTheComposedPoseAndHonoursAHeldExtrinsic) {
+  verify::Rng rng(3);
+  const SE3d T_w_c = verify::RandomPose(rng), T_b_c = verify::RandomPose(rng);
+  const Eigen::Vector3d p1 = T_w_c * Eigen::Vector3d(-1, 0.5, 4),
+                        p2 = T_w_c * Eigen::Vector3d(1, -0.2, 6);
+  const Line6d L_w = LineFromPoints<double>(p1, p2);
+  const LineAnchor anchor = MakeLineAnchor(L_w, T_w_c.translation());
+  Eigen::Vector2d s, e;
+  ProjectSegment(T_w_c, p1, p2, &s, &e);
+  s += Eigen::Vector2d(3.0, -4.0);
+  const std::unique_ptr<ceres::CostFunction> vi(
+      AnchoredLineFactorVI::Create(kK, s, e, Eigen::Matrix2d::Identity(), anchor));
+  const std::unique_ptr<ceres::CostFunction> mono(
+      AnchoredLineFactor::Create(kK, s, e, Eigen::Matrix2d::Identity(), anchor));
+  double pose_b[7], pose_bc[7], pose_c[7], line[6];
+  (T_w_c * T_b_c.Inverse()).ToParameters(pose_b);
+  T_b_c.ToParameters(pose_bc);
+  T_w_c.ToParameters(pose_c);
+  OrthonormalFromPlucker(AnchoredFromWorld(L_w, anchor))->ToParameters(line);
+  const double* pv[3] = {pose_b, pose_bc, line};
+  const double* pm[2] = {pose_c, line};
+  double rv[2], rm[2], J0[14], J2[12];
+  double* jv[3] = {J0, nullptr, J2};
+  ASSERT_TRUE(vi->Evaluate(pv, rv, jv));
+  ASSERT_TRUE(mono->Evaluate(pm, rm, nullptr));
+  EXPECT_NEAR(rv[0], rm[0], 1e-9);
+  EXPECT_NEAR(rv[1], rm[1], 1e-9);
+  EXPECT_GT(std::hypot(rv[0], rv[1]), 0.01);  // a residual that checks something
+  // The held extrinsic (null jacobians[1]) leaves the other Jacobians as they are.
+  double F0[14], F1[14], F2[12], rf[2];
+  double* jf[3] = {F0, F1, F2};
+  ASSERT_TRUE(vi->Evaluate(pv, rf, jf));
+  for (int k = 0; k < 14; ++k) EXPECT_EQ(J0[k], F0[k]);
+  for (int k = 0; k < 12; ++k) EXPECT_EQ(J2[k], F2[k]);
 }
 
 TEST(AnchoredLineFactor, AnchoringRoundTripsAndKeepsTheResidual) {

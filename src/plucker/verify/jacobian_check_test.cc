@@ -29,8 +29,8 @@ INSTANTIATE_TEST_SUITE_P(Registry, AllChecks, ::testing::ValuesIn(AllJacobianChe
 // The parameterised test above runs whatever the registry holds; this pins how much that is.
 TEST(Registry, HoldsEveryCheck) {
   EXPECT_EQ(GeometryJacobianChecks().size(), 12u);
-  EXPECT_EQ(FactorJacobianChecks().size(), 13u);
-  EXPECT_EQ(AllJacobianChecks().size(), 25u);
+  EXPECT_EQ(FactorJacobianChecks().size(), 14u);
+  EXPECT_EQ(AllJacobianChecks().size(), 26u);
 }
 
 // A test of the tests: a misspelled filter (the defect of issue 7: "LineReprojection" for
@@ -47,9 +47,9 @@ TEST(RunJacobianChecks, FailsOnEmptyOrUnexpectedSelection) {
   const JacobianCheckRun too_many =
       RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 2, options);
   EXPECT_FALSE(too_many.ok());
-  EXPECT_EQ(too_many.stats.size(), 5u);  // the four reprojection checks and the anchored one
+  EXPECT_EQ(too_many.stats.size(), 6u);  // the four reprojection checks and the two anchored
   const JacobianCheckRun exact =
-      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 5, options);
+      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 6, options);
   EXPECT_TRUE(exact.ok()) << exact.error;
 }
 

@@ -150,6 +150,17 @@ LineFactorSample AnchoredSample(Rng& rng, int i) {
   return smp;
 }
 
+// The VI sample with the line in an anchor frame near the camera centre.
+LineFactorSample AnchoredVISample(Rng& rng, int i) {
+  LineFactorSample smp = VISample(rng, i);
+  const Line6d L_w = PluckerFromOrthonormal(OrthonormalLine::FromParameters(smp.blocks[2].data()));
+  const SE3d T_w_c =
+      SE3d::FromParameters(smp.blocks[0].data()) * SE3d::FromParameters(smp.blocks[1].data());
+  smp.anchor = MakeLineAnchor(L_w, T_w_c.translation() + RandomVector(rng, 0.5));
+  smp.blocks[2] = Block(*OrthonormalFromPlucker(AnchoredFromWorld(L_w, smp.anchor)), 6);
+  return smp;
+}
+
 using CreateFn = std::function<ceres::CostFunction*(const LineFactorSample&)>;
 using PlainCreateFn = ceres::CostFunction* (*)(const PinholeIntrinsics&, const Eigen::Vector2d&,
                                                const Eigen::Vector2d&, const Eigen::Matrix2d&);
@@ -160,6 +171,14 @@ CreateFn Anchored(bool autodiff) {
   return [autodiff](const LineFactorSample& s) {
     return autodiff ? AnchoredLineFactor::CreateAutoDiff(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor)
                     : AnchoredLineFactor::Create(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor);
+  };
+}
+
+CreateFn AnchoredVI(bool autodiff) {
+  return [autodiff](const LineFactorSample& s) {
+    return autodiff
+               ? AnchoredLineFactorVI::CreateAutoDiff(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor)
+               : AnchoredLineFactorVI::Create(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor);
   };
 }
 
@@ -205,6 +224,8 @@ std::vector<NamedJacobianCheck> LineFactorJacobianChecks() {
       LineFactorCheck("factor.line.ReprojectionVI.tangent", 203, VISample, vi, vi_ad, true),
       LineFactorCheck("factor.line.Anchored.tangent", 204, AnchoredSample, Anchored(false),
                       Anchored(true), true),
+      LineFactorCheck("factor.line.AnchoredVI.tangent", 205, AnchoredVISample, AnchoredVI(false),
+                      AnchoredVI(true), true),
   };
 }
 

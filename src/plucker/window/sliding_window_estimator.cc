@@ -11,10 +11,12 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "plucker/factors/imu_factor.h"
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
@@ -70,15 +72,96 @@ class FirstEstimateCost final : public ceres::CostFunction {
   std::vector<const double*> fe_;
 };
 
-enum class BlockKind { kPose, kPoint, kLine };
+// r = S (x - x0) on a vector block (the inertial priors on a velocity or a bias block).
+template <int kN>
+struct VectorPriorResidual {
+  Eigen::Matrix<double, kN, 1> x0;
+  Eigen::Matrix<double, kN, kN> S;
+  template <typename T>
+  bool operator()(const T* x, T* residual) const {
+    Eigen::Map<Eigen::Matrix<T, kN, 1>> r(residual);
+    r = S.template cast<T>() *
+        (Eigen::Map<const Eigen::Matrix<T, kN, 1>>(x) - x0.template cast<T>());
+    return true;
+  }
+};
+
+// Zero motion between two keyframes of a standing body (9 | 7 T_w_b_i, 7 T_w_b_j, 3 v_j):
+// r = [Log(R_i^T R_j) / sigma_R, (p_j - p_i) / sigma_p, v_j / sigma_v].
+struct ZeroMotionResidual {
+  double sigma_R, sigma_p, sigma_v;
+  template <typename T>
+  bool operator()(const T* pose_i, const T* pose_j, const T* v_j, T* residual) const {
+    const SE3<T> Ti = SE3<T>::FromParameters(pose_i), Tj = SE3<T>::FromParameters(pose_j);
+    Eigen::Quaternion<T> dq = Ti.rotation().conjugate() * Tj.rotation();
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    Eigen::Map<Eigen::Matrix<T, 9, 1>> r(residual);
+    r.template head<3>() = LogUnitQuaternion<T>(dq) / T(sigma_R);
+    r.template segment<3>(3) = (Tj.translation() - Ti.translation()) / T(sigma_p);
+    r.template tail<3>() = Eigen::Map<const Eigen::Matrix<T, 3, 1>>(v_j) / T(sigma_v);
+    return true;
+  }
+};
+
+// A visual-inertial factor (2 | 7 T_w_b, 7 T_b_c, kN) with the extrinsic held: (2 | 7, kN).
+template <int kN>
+class HeldExtrinsicCost final : public ceres::SizedCostFunction<2, 7, kN> {
+ public:
+  HeldExtrinsicCost(ceres::CostFunction* vi, const SE3d& T_b_c) : vi_(vi) {
+    T_b_c.ToParameters(T_b_c_);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* p[3] = {parameters[0], T_b_c_, parameters[1]};
+    double* j[3] = {jacobians ? jacobians[0] : nullptr, nullptr,
+                    jacobians ? jacobians[1] : nullptr};
+    return vi_->Evaluate(p, residuals, jacobians ? j : nullptr);
+  }
+
+ private:
+  std::unique_ptr<ceres::CostFunction> vi_;
+  double T_b_c_[7];
+};
+
+enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias };
 
 struct Frame {
   int index = 0;
   FrameInput input;
-  double pose[7];
+  double pose[7];                     // T_w_c, or T_w_b in the inertial mode
   std::vector<char> point_outlier;    // per input.points
   std::vector<char> segment_outlier;  // per input.segments
-  SE3d T_w_c() const { return SE3d::FromParameters(pose); }
+  // Inertial mode: the extrinsic, the velocity and bias blocks, the IMU from the previous
+  // keyframe, and the priors of the first keyframe.
+  std::optional<SE3d> T_b_c;
+  double v[3] = {0.0, 0.0, 0.0};
+  double bias[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // [b_g, b_a]
+  std::unique_ptr<ImuPreintegration> imu_from_previous;
+  bool state_prior = false;
+  double v_prior[3], bias_prior[6];
+  SE3d T_w_c() const {
+    return T_b_c ? SE3d::FromParameters(pose) * *T_b_c : SE3d::FromParameters(pose);
+  }
+  void SetCameraPose(const SE3d& T_w_c) {
+    (T_b_c ? T_w_c * T_b_c->Inverse() : T_w_c).ToParameters(pose);
+  }
+  ImuBias Bias() const {
+    ImuBias b;
+    b.gyro = Eigen::Vector3d(bias[0], bias[1], bias[2]);
+    b.accel = Eigen::Vector3d(bias[3], bias[4], bias[5]);
+    return b;
+  }
+  void SetState(const InertialState& s) {
+    s.T_w_b.ToParameters(pose);
+    for (int i = 0; i < 3; ++i) {
+      v[i] = s.v_w(i);
+      bias[i] = s.bias.gyro(i);
+      bias[3 + i] = s.bias.accel(i);
+    }
+  }
+  InertialState State() const {
+    return {SE3d::FromParameters(pose), Eigen::Vector3d(v[0], v[1], v[2]), Bias()};
+  }
 };
 
 struct PointLandmark {
@@ -133,6 +216,7 @@ struct SlidingWindowEstimator::Impl {
   std::set<int> retired_points, retired_lines;
   int frames_seen = 0;
   int next_index = 0;
+  std::vector<sensor::ImuSample> imu;  // inertial mode: from just before the newest keyframe
 
   bool InPrior(const double* block) const {
     return std::find(prior_blocks.begin(), prior_blocks.end(), block) != prior_blocks.end();
@@ -147,6 +231,7 @@ struct SlidingWindowEstimator::Impl {
     f->input.time = input.time;
     f->input.T_w_c_prior = input.T_w_c_prior;
     f->input.prior_sqrt_information = input.prior_sqrt_information;
+    f->input.stationary = input.stationary;
     for (const auto& p : input.points)
       if (ValidPoint(p)) f->input.points.push_back(p);
     if (opt.use_lines) {
@@ -155,8 +240,123 @@ struct SlidingWindowEstimator::Impl {
     }
     f->point_outlier.assign(f->input.points.size(), 0);
     f->segment_outlier.assign(f->input.segments.size(), 0);
-    T_w_c.ToParameters(f->pose);
+    if (opt.inertial) f->T_b_c = opt.inertial->T_b_c;
+    f->SetCameraPose(T_w_c);
     return f;
+  }
+
+  // --- inertial mode ---------------------------------------------------------------------------
+
+  ceres::CostFunction* PointCost(const Eigen::Vector2d& uv) const {
+    if (!opt.inertial) return PointReprojectionFactor::Create(K, uv, PointSqrtInfo());
+    return new HeldExtrinsicCost<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
+                                    opt.inertial->T_b_c);
+  }
+
+  ceres::CostFunction* LineCost(const sensor::SegmentObservation& s,
+                                const LineAnchor& anchor) const {
+    if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
+    return new HeldExtrinsicCost<6>(
+        AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor),
+        opt.inertial->T_b_c);
+  }
+
+  // The IMU from time t0 to t1 at the bias `bias` (throws std::invalid_argument when the samples
+  // do not cover the interval).
+  ImuPreintegration Preintegrate(double t0, double t1, const ImuBias& bias) const {
+    return PreintegrateSamples(imu, t0, t1, bias, opt.inertial->imu);
+  }
+
+  // The state at time t predicted from the newest keyframe, with the preintegration used.
+  InertialState Predict(double t, std::unique_ptr<ImuPreintegration>* preintegration) const {
+    const Frame& kf = *keyframes.back();
+    *preintegration =
+        std::make_unique<ImuPreintegration>(Preintegrate(kf.input.time, t, kf.Bias()));
+    const InertialState s = kf.State();
+    NavState n;
+    n.R_w_b = s.T_w_b.RotationMatrix();
+    n.p_w = s.T_w_b.translation();
+    n.v_w = s.v_w;
+    const NavState p = (*preintegration)->Predict(n, s.bias, opt.inertial->gravity_w);
+    return {SE3d(p.R_w_b, p.p_w), p.v_w, s.bias};
+  }
+
+  // The IMU factor between keyframes k - 1 and k, and the priors of keyframe k.
+  void AppendInertialResiduals(std::size_t k, std::vector<ResidualSpec>* out) const {
+    Frame* f = keyframes[k].get();
+    if (k > 0 && f->imu_from_previous) {
+      Frame* p = keyframes[k - 1].get();
+      ResidualSpec r;
+      r.cost.reset(ImuFactor::Create(*f->imu_from_previous, opt.inertial->gravity_w));
+      r.robust = false;
+      r.blocks = {p->pose, p->v, p->bias, f->pose, f->v, f->bias};
+      out->push_back(std::move(r));
+      if (f->input.stationary && p->input.stationary) {
+        const InertialOptions& o = *opt.inertial;
+        ResidualSpec z;
+        z.cost.reset(new ceres::AutoDiffCostFunction<ZeroMotionResidual, 9, 7, 7, 3>(
+            new ZeroMotionResidual{o.stationary_rotation_sigma, o.stationary_position_sigma,
+                                   o.stationary_velocity_sigma}));
+        z.robust = false;
+        z.blocks = {p->pose, f->pose, f->v};
+        out->push_back(std::move(z));
+      }
+    }
+    if (f->state_prior) {
+      const InertialOptions& o = *opt.inertial;
+      ResidualSpec rv;
+      rv.cost.reset(
+          new ceres::AutoDiffCostFunction<VectorPriorResidual<3>, 3, 3>(new VectorPriorResidual<3>{
+              Eigen::Vector3d(f->v_prior), Eigen::Matrix3d::Identity() / o.velocity_prior_sigma}));
+      rv.robust = false;
+      rv.blocks = {f->v};
+      out->push_back(std::move(rv));
+      Eigen::Matrix<double, 6, 1> sigma;
+      sigma << Eigen::Vector3d::Constant(o.gyro_bias_prior_sigma),
+          Eigen::Vector3d::Constant(o.accel_bias_prior_sigma);
+      ResidualSpec rb;
+      rb.cost.reset(
+          new ceres::AutoDiffCostFunction<VectorPriorResidual<6>, 6, 6>(new VectorPriorResidual<6>{
+              Eigen::Matrix<double, 6, 1>(f->bias_prior), sigma.cwiseInverse().asDiagonal()}));
+      rb.robust = false;
+      rb.blocks = {f->bias};
+      out->push_back(std::move(rb));
+    }
+  }
+
+  // Integrates the IMU factors again whose start bias moved far from the linearisation point.
+  void RepropagateImu() {
+    if (!opt.inertial) return;
+    for (std::size_t k = 1; k < keyframes.size(); ++k) {
+      ImuPreintegration* p = keyframes[k]->imu_from_previous.get();
+      if (!p) continue;
+      const ImuBias b = keyframes[k - 1]->Bias();
+      if ((b.gyro - p->BiasLinearisation().gyro).norm() > opt.inertial->repropagate_gyro_bias ||
+          (b.accel - p->BiasLinearisation().accel).norm() > opt.inertial->repropagate_accel_bias) {
+        p->Repropagate(b);
+      }
+    }
+  }
+
+  // Whitened squared residual of the IMU factor into the newest keyframe (0 if none).
+  double NewestImuChi2() const {
+    if (!opt.inertial || keyframes.size() < 2) return 0.0;
+    std::vector<ResidualSpec> r;
+    AppendInertialResiduals(keyframes.size() - 1, &r);
+    if (r.empty() || r.front().cost->num_residuals() != 15) return 0.0;
+    std::vector<const double*> params(r.front().blocks.begin(), r.front().blocks.end());
+    Eigen::Matrix<double, 15, 1> res;
+    if (!r.front().cost->Evaluate(params.data(), res.data(), nullptr)) return 0.0;
+    return res.squaredNorm();
+  }
+
+  // Drops the IMU samples before the newest keyframe (one sample before it is kept).
+  void PruneImu() {
+    if (keyframes.empty() || imu.size() < 2) return;
+    const double t = keyframes.back()->input.time;
+    std::size_t keep = 0;
+    while (keep + 1 < imu.size() && imu[keep + 1].t <= t) ++keep;
+    imu.erase(imu.begin(), imu.begin() + static_cast<std::ptrdiff_t>(keep));
   }
 
   // --- residuals -------------------------------------------------------------------------------
@@ -169,7 +369,7 @@ struct SlidingWindowEstimator::Impl {
         const auto it = points.find(f->input.points[i].point_id);
         if (it == points.end()) continue;
         ResidualSpec r;
-        r.cost.reset(PointReprojectionFactor::Create(K, f->input.points[i].uv, PointSqrtInfo()));
+        r.cost.reset(PointCost(f->input.points[i].uv));
         r.blocks = {f->pose, it->second->p};
         r.frame = f;
         r.observation = static_cast<int>(i);
@@ -183,8 +383,7 @@ struct SlidingWindowEstimator::Impl {
         if (it == lines.end()) continue;
         const auto& s = f->input.segments[i];
         ResidualSpec r;
-        r.cost.reset(
-            AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), it->second->anchor));
+        r.cost.reset(LineCost(s, it->second->anchor));
         r.blocks = {f->pose, it->second->block};
         r.frame = f;
         r.observation = static_cast<int>(i);
@@ -203,8 +402,11 @@ struct SlidingWindowEstimator::Impl {
   }
 
   BlockKind KindOf(const double* block) const {
-    for (const auto& f : keyframes)
+    for (const auto& f : keyframes) {
       if (f->pose == block) return BlockKind::kPose;
+      if (f->v == block) return BlockKind::kVelocity;
+      if (f->bias == block) return BlockKind::kBias;
+    }
     for (const auto& [id, l] : lines)
       if (l->block == block) return BlockKind::kLine;
     return BlockKind::kPoint;
@@ -217,6 +419,7 @@ struct SlidingWindowEstimator::Impl {
   }
 
   static int AmbientSize(BlockKind kind) {
+    if (kind == BlockKind::kBias) return 6;
     return kind == BlockKind::kPose ? 7 : (kind == BlockKind::kLine ? 6 : 3);
   }
 
@@ -248,7 +451,7 @@ struct SlidingWindowEstimator::Impl {
   TrackResult Track(Frame* f, const SE3d& guess) const {
     TrackResult result;
     result.T_w_c = guess;
-    guess.ToParameters(f->pose);
+    f->SetCameraPose(guess);
     for (int round = 0; round < 2; ++round) {
       std::vector<ResidualSpec> residuals;
       AppendFrameResiduals(f, true, opt.use_lines, &residuals);
@@ -451,6 +654,9 @@ struct SlidingWindowEstimator::Impl {
   int BuildProblem(ceres::Problem* problem, bool hold_gauge) {
     std::vector<ResidualSpec> residuals;
     for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &residuals);
+    if (opt.inertial) {
+      for (std::size_t k = 0; k < keyframes.size(); ++k) AppendInertialResiduals(k, &residuals);
+    }
     int n = 0;
     for (ResidualSpec& r : residuals) {
       if (r.frame != nullptr) {
@@ -494,6 +700,7 @@ struct SlidingWindowEstimator::Impl {
   }
 
   void SolveWindow(FrameResult* result) {
+    RepropagateImu();
     ceres::Problem problem(ProblemOptions());
     result->residuals = BuildProblem(&problem, true);
     ceres::Solver::Options so;
@@ -552,6 +759,10 @@ struct SlidingWindowEstimator::Impl {
     }
     std::vector<ResidualSpec> residuals;
     AppendFrameResiduals(f0, true, opt.use_lines && opt.keep_marginalized_lines, &residuals);
+    if (opt.inertial) {
+      AppendInertialResiduals(0, &residuals);  // the first keyframe's priors
+      AppendInertialResiduals(1, &residuals);  // the IMU factor to the successor (and its priors)
+    }
     if (opt.use_lines && !opt.keep_marginalized_lines) {
       for (std::size_t i = 0; i < f0->input.segments.size(); ++i)
         if (!f0->segment_outlier[i] && lines.count(f0->input.segments[i].line_id))
@@ -593,6 +804,9 @@ struct SlidingWindowEstimator::Impl {
     }
     const bool pose_touched = std::find(touched.begin(), touched.end(), f0->pose) != touched.end();
     if (pose_touched) remove.push_back(f0->pose);
+    for (double* b : {f0->v, f0->bias}) {
+      if (std::find(touched.begin(), touched.end(), b) != touched.end()) remove.push_back(b);
+    }
 
     std::unique_ptr<MarginalizationPrior> next;
     std::vector<double*> next_blocks;
@@ -637,6 +851,8 @@ struct SlidingWindowEstimator::Impl {
     }
     InstallPrior(std::move(next), next_blocks, result);
     keyframes.pop_front();
+    keyframes.front()->imu_from_previous.reset();
+    keyframes.front()->state_prior = false;
     for (int id : remove_points) points.erase(id);
     for (int id : remove_lines) lines.erase(id);
     result->marginalized_keyframes = 1;
@@ -806,7 +1022,8 @@ struct SlidingWindowEstimator::Impl {
     if (!prior) return;
     result->prior_rank = prior->Statistics().prior_rank;
     for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
-      if (opt.first_estimate_landmarks || KindOf(prior_blocks[i]) == BlockKind::kPose)
+      const BlockKind kind = KindOf(prior_blocks[i]);
+      if (opt.first_estimate_landmarks || (kind != BlockKind::kPoint && kind != BlockKind::kLine))
         fe[prior_blocks[i]] = prior->LinearisationPoint()[i];
     }
     if (prior->Statistics().prior_rank == 0) {
@@ -814,6 +1031,42 @@ struct SlidingWindowEstimator::Impl {
       prior_blocks.clear();
       fe.clear();
     }
+  }
+
+  void Clear() {
+    keyframes.clear();
+    points.clear();
+    lines.clear();
+    prior.reset();
+    prior_blocks.clear();
+    fe.clear();
+    retired_points.clear();
+    retired_lines.clear();
+  }
+
+  // The tail of both initialisations: the two keyframes are in place.
+  InitializationResult StartWindow(int min_landmarks) {
+    InitializationResult result;
+    Triangulate(*keyframes.back(), &result.points, &result.lines);
+    if (result.points + result.lines < min_landmarks) {
+      Clear();
+      return result;
+    }
+    FrameResult solve;
+    SolveWindow(&solve);
+    result.iterations = solve.window_iterations;
+    result.points = static_cast<int>(points.size());
+    result.lines = static_cast<int>(lines.size());
+    result.T_w_a = keyframes.front()->T_w_c();
+    result.T_w_b = keyframes.back()->T_w_c();
+    result.ok = result.points + result.lines >= min_landmarks;
+    if (!result.ok) {
+      Clear();
+      return result;
+    }
+    prev_T_w_c = result.T_w_a;
+    last_T_w_c = result.T_w_b;
+    return result;
   }
 
   void FillCounts(FrameResult* r) const {
@@ -832,6 +1085,11 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
   if (!(options.point_sigma_px > 0.0) || !(options.line_sigma_px > 0.0) ||
       !(options.loss_scale > 0.0))
     throw std::invalid_argument("SlidingWindowEstimator: sigmas and loss scale must be positive");
+  // The poses-only prior eliminates pose blocks alone: it does not carry the velocity and bias
+  // blocks and the IMU factor of the marginalized keyframe.
+  if (options.inertial && options.prior_blocks == SlidingWindowOptions::PriorBlocks::kPoses)
+    throw std::invalid_argument(
+        "SlidingWindowEstimator: the poses-only prior is not available in inertial mode");
   impl_->K = K;
   impl_->opt = options;
   if (options.loss == LossKind::kHuber)
@@ -848,41 +1106,54 @@ InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, con
                                                         const FrameInput& b, const SE3d& T_w_b,
                                                         int min_landmarks) {
   Impl& m = *impl_;
-  m.keyframes.clear();
-  m.points.clear();
-  m.lines.clear();
-  m.prior.reset();
-  m.prior_blocks.clear();
-  m.fe.clear();
-  m.retired_points.clear();
-  m.retired_lines.clear();
-  InitializationResult result;
+  m.Clear();
   m.keyframes.push_back(m.MakeFrame(a, T_w_a));
   m.keyframes.push_back(m.MakeFrame(b, T_w_b));
-  m.Triangulate(*m.keyframes.back(), &result.points, &result.lines);
-  if (result.points + result.lines < min_landmarks) {
-    m.keyframes.clear();
-    m.points.clear();
-    m.lines.clear();
-    return result;
+  return m.StartWindow(min_landmarks);
+}
+
+void SlidingWindowEstimator::AddImu(const std::vector<sensor::ImuSample>& samples) {
+  Impl& m = *impl_;
+  if (!m.opt.inertial) throw std::logic_error("SlidingWindowEstimator::AddImu: not inertial");
+  double last = m.imu.empty() ? -std::numeric_limits<double>::infinity() : m.imu.back().t;
+  for (const sensor::ImuSample& s : samples) {
+    if (!(s.t > last) || !s.gyro.allFinite() || !s.accel.allFinite()) {
+      throw std::invalid_argument(
+          "SlidingWindowEstimator::AddImu: IMU samples must be finite with increasing times");
+    }
+    last = s.t;
   }
-  FrameResult solve;
-  m.SolveWindow(&solve);
-  result.iterations = solve.window_iterations;
-  result.points = static_cast<int>(m.points.size());
-  result.lines = static_cast<int>(m.lines.size());
-  result.T_w_a = m.keyframes.front()->T_w_c();
-  result.T_w_b = m.keyframes.back()->T_w_c();
-  result.ok = result.points + result.lines >= min_landmarks;
-  if (!result.ok) {
-    m.keyframes.clear();
-    m.points.clear();
-    m.lines.clear();
-    return result;
-  }
-  m.prev_T_w_c = result.T_w_a;
-  m.last_T_w_c = result.T_w_b;
+  m.imu.insert(m.imu.end(), samples.begin(), samples.end());
+}
+
+InitializationResult SlidingWindowEstimator::InitializeInertial(const FrameInput& a,
+                                                                const InertialState& state_a,
+                                                                const FrameInput& b,
+                                                                const InertialState& state_b,
+                                                                int min_landmarks) {
+  Impl& m = *impl_;
+  if (!m.opt.inertial) throw std::logic_error("InitializeInertial: not in the inertial mode");
+  auto imu = std::make_unique<ImuPreintegration>(m.Preintegrate(a.time, b.time, state_a.bias));
+  m.Clear();
+  const SE3d& T_b_c = m.opt.inertial->T_b_c;
+  m.keyframes.push_back(m.MakeFrame(a, state_a.T_w_b * T_b_c));
+  m.keyframes.push_back(m.MakeFrame(b, state_b.T_w_b * T_b_c));
+  Frame& fa = *m.keyframes.front();
+  fa.SetState(state_a);
+  fa.state_prior = true;
+  std::copy(fa.v, fa.v + 3, fa.v_prior);
+  std::copy(fa.bias, fa.bias + 6, fa.bias_prior);
+  m.keyframes.back()->SetState(state_b);
+  m.keyframes.back()->imu_from_previous = std::move(imu);
+  const InitializationResult result = m.StartWindow(min_landmarks);
+  if (result.ok) m.PruneImu();
   return result;
+}
+
+std::vector<InertialState> SlidingWindowEstimator::KeyframeStates() const {
+  std::vector<InertialState> out;
+  for (const auto& f : impl_->keyframes) out.push_back(f->State());
+  return out;
 }
 
 FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
@@ -894,8 +1165,19 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   FrameResult result;
   if (m.keyframes.empty())
     throw std::logic_error("SlidingWindowEstimator::AddFrame before Initialize");
-  // Predict.
+  // Predict (inertial mode: the IMU from the newest keyframe; throws before any change when the
+  // samples do not cover the frame).
+  std::unique_ptr<ImuPreintegration> imu;
+  InertialState imu_state;
+  if (m.opt.inertial) {
+    imu_state = m.Predict(input.time, &imu);
+    if (input.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
+      imu_state.T_w_b = m.keyframes.back()->State().T_w_b;
+      imu_state.v_w.setZero();
+    }
+  }
   const SE3d predicted = input.T_w_c_guess ? *input.T_w_c_guess
+                         : m.opt.inertial  ? imu_state.T_w_b * m.opt.inertial->T_b_c
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
   stage(WindowStage::kTracking);
@@ -914,13 +1196,22 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   result.tracked_lines = track.lines;
   result.ok = track.ok;
   result.T_w_c = track.ok ? track.T_w_c : predicted;
-  result.T_w_c.ToParameters(frame->pose);
+  frame->SetCameraPose(result.T_w_c);
   // Decide.
   result.parallax_px = m.Parallax(*frame);
   const int observed = static_cast<int>(frame->input.points.size() + frame->input.segments.size());
   result.keyframe = track.ok && (result.parallax_px >= m.opt.keyframe_parallax_px ||
                                  track.points + track.lines < m.opt.min_tracked ||
                                  track.points + track.lines < m.opt.min_tracked_ratio * observed);
+  if (m.opt.inertial) {
+    result.imu_only = !track.ok;
+    result.keyframe = result.keyframe || input.time - m.keyframes.back()->input.time >=
+                                             m.opt.inertial->max_keyframe_interval_s;
+    imu_state.T_w_b = SE3d::FromParameters(frame->pose);
+    result.state = imu_state;
+    frame->SetState(imu_state);
+    frame->imu_from_previous = std::move(imu);
+  }
   if (result.keyframe) {
     m.keyframes.push_back(std::move(frame));
     stage(WindowStage::kTriangulation);
@@ -928,6 +1219,10 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     stage(WindowStage::kSolve);
     m.SolveWindow(&result);
     result.T_w_c = m.keyframes.back()->T_w_c();
+    if (m.opt.inertial) {
+      result.state = m.keyframes.back()->State();
+      result.imu_chi2 = m.NewestImuChi2();
+    }
     if (static_cast<int>(m.keyframes.size()) > m.opt.window_size) {
       stage(WindowStage::kMarginalization);
       if (m.opt.prior_blocks == SlidingWindowOptions::PriorBlocks::kPoses) {
@@ -936,6 +1231,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
         m.MarginalizeOldest(&result);
       }
     }
+    if (m.opt.inertial) m.PruneImu();
   }
   m.prev_T_w_c = m.last_T_w_c;
   m.last_T_w_c = result.T_w_c;
@@ -964,6 +1260,10 @@ std::optional<Eigen::Matrix<double, 6, 6>> SlidingWindowEstimator::NewestPoseCov
   m.BuildProblem(&problem, false);
   double* pose = m.keyframes.back()->pose;
   if (!problem.HasParameterBlock(pose)) return std::nullopt;
+  if (m.opt.inertial && m.keyframes.size() > 1 &&
+      problem.HasParameterBlock(m.keyframes.front()->pose)) {
+    problem.SetParameterBlockConstant(m.keyframes.front()->pose);
+  }
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;  // fails (nullopt) when the information is rank-deficient
   co.apply_loss_function = true;

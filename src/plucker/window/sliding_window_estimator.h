@@ -39,6 +39,20 @@
 //
 // Gauge: until the first marginalization the oldest keyframe is held constant; the scale is that
 // of the initialisation (monocular: arbitrary, kept consistent by the window).
+//
+// Visual-inertial mode (SlidingWindowOptions::inertial, docs/vio.md): the pose blocks hold the
+// body pose T_w_b in a gravity-aligned world and every keyframe has a velocity v_w (3) and a bias
+// block [b_g, b_a] (6). The visual factors see the camera through the fixed extrinsic T_b_c
+// (PointReprojectionFactorVI, AnchoredLineFactorVI with the extrinsic held); an ImuFactor joins
+// consecutive keyframes (preintegrated keyframe to keyframe from the samples given to AddImu,
+// integrated again when a bias moves far from its linearisation point). A frame's pose is
+// predicted by the IMU from the newest keyframe's state and then tracked visually; when too
+// little is tracked the IMU prediction is the result. A keyframe is also taken when
+// max_keyframe_interval_s has passed (the IMU factors stay short, a standing body keeps its
+// window). Marginalizing the oldest keyframe puts its IMU factor to the successor, its priors and
+// its visual observations into the prior (FEJ as above). Gauge: position and yaw (4-DoF); until
+// the first marginalization the oldest pose is held. The first keyframe carries priors on its
+// biases and velocity from the initialisation.
 #pragma once
 
 #include <Eigen/Core>
@@ -49,17 +63,42 @@
 #include <vector>
 
 #include "plucker/factors/anchored_line_factor.h"
+#include "plucker/factors/imu_preintegration.h"
 #include "plucker/factors/marginalization.h"
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/line_triangulation.h"
 #include "plucker/geometry/point_triangulation.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/sensor/camera_observations.h"
+#include "plucker/sensor/imu.h"
 
 namespace plucker {
 namespace window {
 
 enum class LossKind { kTrivial, kHuber, kCauchy };
+
+// The visual-inertial mode (see the file comment).
+struct InertialOptions {
+  SE3d T_b_c;  // camera in the body (IMU) frame, held fixed
+  sensor::ImuModel imu;
+  Eigen::Vector3d gravity_w{0.0, 0.0, -9.81};  // the world is gravity-aligned
+  // Priors on the first keyframe's state at initialisation (standard deviations).
+  double gyro_bias_prior_sigma = 0.01;  // rad/s
+  double accel_bias_prior_sigma = 0.1;  // m/s^2
+  double velocity_prior_sigma = 0.1;    // m/s
+  // An IMU factor is integrated again when the bias at its start moved further than this from
+  // its linearisation point.
+  double repropagate_gyro_bias = 2e-3;   // rad/s
+  double repropagate_accel_bias = 0.05;  // m/s^2
+  double max_keyframe_interval_s = 1.0;
+  // A frame the caller marks stationary (FrameInput::stationary: no image motion) keeps the
+  // newest keyframe's pose instead of the IMU prediction, and as a keyframe gets a zero-motion
+  // factor to the previous keyframe (same pose, zero velocity) with these standard deviations:
+  // without it a standing body's pose is the double integral of the vibration.
+  double stationary_position_sigma = 1e-3;  // m
+  double stationary_rotation_sigma = 1e-4;  // rad
+  double stationary_velocity_sigma = 1e-2;  // m/s
+};
 
 struct SlidingWindowOptions {
   int window_size = 10;  // keyframes kept in the window (>= 2)
@@ -114,6 +153,14 @@ struct SlidingWindowOptions {
   }();
   double max_line_sigma_ratio = 0.2;  // reject ill-conditioned N-view lines (sigma3 / sigma2)
   MarginalizationOptions marginalization;
+  std::optional<InertialOptions> inertial;  // set: visual-inertial mode
+};
+
+// A body state of the visual-inertial mode.
+struct InertialState {
+  SE3d T_w_b;
+  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
+  ImuBias bias;
 };
 
 // One frame's input: the observations with their track ids (sensor/camera_observations.h, from
@@ -128,6 +175,7 @@ struct FrameInput {
   // translation), kept while the frame is in the window and marginalized with it.
   std::optional<SE3d> T_w_c_prior;
   Eigen::Matrix<double, 6, 6> prior_sqrt_information = Eigen::Matrix<double, 6, 6>::Identity();
+  bool stationary = false;  // inertial mode: the caller saw no image motion (see InertialOptions)
 };
 
 struct FrameResult {
@@ -155,6 +203,13 @@ struct FrameResult {
   int prior_rank = 0;
   bool marginalization_failed = false;  // the prior was reset (Build threw)
   double parallax_px = 0.0;
+  // Visual-inertial mode: the body state (a non-keyframe: the tracked pose with the IMU-predicted
+  // velocity and the newest keyframe's bias), whether the pose is the IMU prediction alone
+  // (too little tracked), and the whitened squared residual of the newest IMU factor after the
+  // solve (15 degrees of freedom; 0 for a non-keyframe).
+  InertialState state;
+  bool imu_only = false;
+  double imu_chi2 = 0.0;
 };
 
 // The stages of AddFrame, announced as they start (kDone at the end) so that the caller can time
@@ -186,6 +241,18 @@ class SlidingWindowEstimator {
                                   const SE3d& T_w_b, int min_landmarks = 10);
   bool initialized() const;
 
+  // Visual-inertial mode. AddImu appends IMU samples (times increasing across calls; throws
+  // std::invalid_argument otherwise); they must cover a frame's time before AddFrame (else
+  // AddFrame throws std::invalid_argument and changes nothing). InitializeInertial starts the
+  // window with two keyframes at known body states (static or visual-inertial initialisation),
+  // the IMU between them preintegrated; min_landmarks may be 0 (a standing body). Both throw
+  // std::logic_error outside the inertial mode.
+  void AddImu(const std::vector<sensor::ImuSample>& samples);
+  InitializationResult InitializeInertial(const FrameInput& a, const InertialState& state_a,
+                                          const FrameInput& b, const InertialState& state_b,
+                                          int min_landmarks = 0);
+  std::vector<InertialState> KeyframeStates() const;  // oldest first
+
   // Processes the next frame (after Initialize). See the file comment.
   FrameResult AddFrame(const FrameInput& frame, const StageObserver& observer = {});
 
@@ -195,7 +262,8 @@ class SlidingWindowEstimator {
 
   // Covariance of the newest keyframe's pose in its PoseManifold tangent (rotation, translation),
   // from the window's information at the current estimate (prior included). nullopt when it is
-  // rank-deficient (no pose prior fixes the gauge) or not computable.
+  // rank-deficient (no pose prior fixes the gauge) or not computable. Visual-inertial mode: of
+  // T_w_b, relative to the oldest keyframe (held; the gauge is position and yaw).
   std::optional<Eigen::Matrix<double, 6, 6>> NewestPoseCovariance() const;
 
   // The keyframes' poses (oldest first) and the landmarks (for drawing and tests).
