@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   plucker::app::RegisterEval(app, &exit_code);
   plucker::app::RegisterConfig(app, &exit_code);
   plucker::app::RegisterConvert(app, &exit_code);
-  // The image commands (lines, vo, bench lines, eval tracks; registered in vision_commands.cc)
+  // The image commands (lines, vo, sfm, vio, bench lines, eval tracks; vision_commands.cc)
   // are a module loaded only when the command line needs it (vision_module.h).
   if (plucker::app::NeedsVisionCommands(app, argc, argv)) {
     plucker::app::LoadVisionCommands(app, &exit_code);

@@ -71,11 +71,12 @@ bool LoadVisionCommands(CLI::App& app, int* exit_code) {
     register_commands(&app, exit_code);
     return true;
   }
-  std::cerr << "plucker: warning: the image commands (lines, vo, bench lines, eval tracks) are "
-               "unavailable: cannot load "
-            << PLUCKER_VISION_MODULE << " beside the program or in "
-            << ModuleCandidates().back().parent_path().string()
-            << (errors.empty() ? std::string(" (not found)") : errors) << "\n";
+  std::cerr
+      << "plucker: warning: the image commands (lines, vo, sfm, vio, bench lines, eval tracks) are "
+         "unavailable: cannot load "
+      << PLUCKER_VISION_MODULE << " beside the program or in "
+      << ModuleCandidates().back().parent_path().string()
+      << (errors.empty() ? std::string(" (not found)") : errors) << "\n";
   return false;
 }
 

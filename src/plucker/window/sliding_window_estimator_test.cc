@@ -150,13 +150,10 @@ TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptOrDropped) {
   EXPECT_LT(dropped_sum / 3, 0.5);
 }
 
-// NEES of the newest keyframe pose: every frame carries a noisy absolute pose prior (a stand-in
-// for the IMU and gravity that fix the gauge and the scale monocular vision cannot), drawn from
-// the prior's own distribution, so the window's covariance of the newest pose is defined; the
-// normalized estimation error squared e^T P^-1 e (6 degrees of freedom) is reported.
-TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
-  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 40, 3);
-  std::vector<FrameInput> in = Inputs(s, 2);
+// Every frame gets an absolute pose prior drawn from its own distribution around the ground
+// truth (2 deg, 0.10 m; seed 7): a stand-in for what fixes the gauge and scale.
+std::vector<FrameInput> WithNoisyPosePriors(const sim::CameraSimulation& s,
+                                            std::vector<FrameInput> in) {
   const double sigma_rot = 2.0 * M_PI / 180.0, sigma_t = 0.10;
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
@@ -169,6 +166,16 @@ TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
     in[i].T_w_c_prior = s.T_w_c_gt[i].Plus(d);
     in[i].prior_sqrt_information = S;
   }
+  return in;
+}
+
+// NEES of the newest keyframe pose: every frame carries a noisy absolute pose prior (a stand-in
+// for the IMU and gravity that fix the gauge and the scale monocular vision cannot), drawn from
+// the prior's own distribution, so the window's covariance of the newest pose is defined; the
+// normalized estimation error squared e^T P^-1 e (6 degrees of freedom) is reported.
+TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 40, 3);
+  const std::vector<FrameInput> in = WithNoisyPosePriors(s, Inputs(s, 2));
   SlidingWindowOptions options;
   options.window_size = 6;
   options.loss = LossKind::kTrivial;  // the covariance of a Gaussian problem
@@ -212,19 +219,7 @@ TEST(SlidingWindowEstimator, PosesOnlyPriorRecoversPosesAndStaysConsistent) {
   EXPECT_LT(b.ate_m, 0.05);
 
   const sim::CameraSimulation n = Simulate(sim::SceneKind::kRoom, 40, 3);
-  std::vector<FrameInput> in = Inputs(n, 2);
-  const double sigma_rot = 2.0 * M_PI / 180.0, sigma_t = 0.10;
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> normal;
-  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Identity();
-  S.topLeftCorner<3, 3>() /= sigma_rot;
-  S.bottomRightCorner<3, 3>() /= sigma_t;
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    Vector6d d;
-    for (int k = 0; k < 6; ++k) d(k) = normal(rng) * (k < 3 ? sigma_rot : sigma_t);
-    in[i].T_w_c_prior = n.T_w_c_gt[i].Plus(d);
-    in[i].prior_sqrt_information = S;
-  }
+  const std::vector<FrameInput> in = WithNoisyPosePriors(n, Inputs(n, 2));
   poses.window_size = 6;
   poses.loss = LossKind::kTrivial;
   const WindowRun c = RunWindow(n, in, poses, 3, true);
