@@ -397,6 +397,7 @@ if [ -f "$T/strecha_gt.txt" ]; then
     "$PLUCKER" eval sfm --gt "$STRECHA/.." --est "$T/sfm_gt_gap.txt" --json
   expect eval-sfm-wrong-count nonzero "sfm_gaps.txt: the estimate has 2 cameras, the ground truth 11" -- \
     "$PLUCKER" eval sfm --gt "$STRECHA" --est "$T/sfm_gaps.txt"
+fi
 
 # Visual-inertial odometry on the camera simulation (dynamic initialisation), and its bad input:
 # an IMU gap (frames skipped and named), a configuration with an unknown option.
