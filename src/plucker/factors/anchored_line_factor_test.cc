@@ -12,19 +12,14 @@
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/geometry/line_projection.h"
 #include "plucker/geometry/orthonormal_line.h"
-#include "plucker/verify/cost_function_check.h"
+#include "plucker/verify/checks.h"
+#include "plucker/verify/jacobian_check.h"
 #include "plucker/verify/random_geometry.h"
 
 namespace plucker {
 namespace {
 
 const PinholeIntrinsics kK{400.0, 400.0, 319.5, 239.5};
-
-Eigen::VectorXd LineBlock(const Line6d& L) {
-  Eigen::VectorXd b(6);
-  OrthonormalFromPlucker(L)->ToParameters(b.data());
-  return b;
-}
 
 // Projects the segment p1_w-p2_w into a camera (noise-free endpoints).
 void ProjectSegment(const SE3d& T_w_c, const Eigen::Vector3d& p1_w, const Eigen::Vector3d& p2_w,
@@ -35,45 +30,20 @@ void ProjectSegment(const SE3d& T_w_c, const Eigen::Vector3d& p1_w, const Eigen:
   *e = Eigen::Vector2d(kK.fx * b.x() / b.z() + kK.cx, kK.fy * b.y() / b.z() + kK.cy);
 }
 
-TEST(AnchoredLineFactor, JacobiansMatchAutodiffAndCentralDifferences) {
-  static const PoseManifold pose_manifold;
-  static const LineManifold line_manifold;
-  verify::JacobianCheckOptions o;
-  o.samples = 200;
-  const verify::JacobianCheckStats stats =
-      verify::RunCostFunctionCheck("window.anchored_line", 0, o, [](verify::Rng& rng, int i) {
-        // The first samples 1 km away from the world origin (far lines).
-        const Eigen::Vector3d offset =
-            i < 10 ? Eigen::Vector3d(1000.0, -400.0, 30.0) : Eigen::Vector3d::Zero();
-        const SE3d T0 = verify::RandomPose(rng);
-        const SE3d T_w_c(T0.rotation(), T0.translation() + offset);
-        auto in_front = [&] {
-          return Eigen::Vector3d(verify::Uniform(rng, -3, 3), verify::Uniform(rng, -2, 2),
-                                 verify::Uniform(rng, 2, 10));
-        };
-        const Eigen::Vector3d p1 = T_w_c * in_front(), p2 = T_w_c * in_front();
-        const Line6d L_w = LineFromPoints<double>(p1, p2);
-        // The anchor: a point near the camera centre.
-        const LineAnchor anchor =
-            MakeLineAnchor(L_w, T_w_c.translation() + verify::RandomVector(rng));
-        Eigen::Vector2d s, e;
-        ProjectSegment(T_w_c, p1, p2, &s, &e);
-        s += verify::RandomVector(rng).head<2>();
-        e += verify::RandomVector(rng).head<2>();
-        verify::CostFunctionSample sample;
-        const Eigen::Matrix2d S = Eigen::Matrix2d::Identity();
-        sample.analytic.reset(AnchoredLineFactor::Create(kK, s, e, S, anchor));
-        sample.autodiff.reset(AnchoredLineFactor::CreateAutoDiff(kK, s, e, S, anchor));
-        Eigen::VectorXd pose(7);
-        T_w_c.ToParameters(pose.data());
-        sample.x = {pose, LineBlock(AnchoredFromWorld(L_w, anchor))};
-        sample.manifolds = {&pose_manifold, &line_manifold};
-        sample.what = "sample " + std::to_string(i);
-        return sample;
-      });
-  std::printf("window.anchored_line: %d samples, %s\n", stats.samples, stats.WorstErrors().c_str());
-  EXPECT_TRUE(stats.passed()) << stats.first_failure;
-  EXPECT_GE(stats.samples, 190);
+// The registered checks factor.line.Anchored.tangent and factor.line.AnchoredVI.tangent
+// (verify/line_factor_checks.cc: a camera 1 km from the origin, rotations near pi, random
+// extrinsics), against autodiff and Ridders differences; the guarded sample is refused by both.
+TEST(AnchoredLineFactor, JacobianChecksPass) {
+  verify::JacobianCheckOptions options;
+  options.samples = 1000;
+  options.seed = 11;
+  const verify::JacobianCheckRun run =
+      verify::RunJacobianChecks(verify::FactorJacobianChecks(), "factor.line.Anchored", 2, options);
+  EXPECT_TRUE(run.ok()) << run.error;
+  for (const verify::JacobianCheckStats& s : run.stats) {
+    EXPECT_EQ(s.skipped, 1) << s.name;
+    RecordProperty(s.name, s.WorstErrors());
+  }
 }
 
 // The link T_w_c = T_w_b T_b_c: its tangent Jacobians against central differences through
@@ -100,45 +70,6 @@ TEST(CameraFromBody, TangentJacobiansMatchCentralDifferences) {
     ++checked;
   }
   EXPECT_EQ(checked, 100);
-}
-
-TEST(AnchoredLineFactorVI, JacobiansMatchAutodiffAndCentralDifferences) {
-  static const PoseManifold pose_manifold;
-  static const LineManifold line_manifold;
-  verify::JacobianCheckOptions o;
-  o.samples = 200;
-  const verify::JacobianCheckStats stats =
-      verify::RunCostFunctionCheck("window.anchored_line_vi", 0, o, [](verify::Rng& rng, int i) {
-        const SE3d T_w_c = verify::RandomPose(rng);
-        const SE3d T_b_c = verify::RandomPose(rng);
-        auto in_front = [&] {
-          return Eigen::Vector3d(verify::Uniform(rng, -3, 3), verify::Uniform(rng, -2, 2),
-                                 verify::Uniform(rng, 2, 10));
-        };
-        const Eigen::Vector3d p1 = T_w_c * in_front(), p2 = T_w_c * in_front();
-        const Line6d L_w = LineFromPoints<double>(p1, p2);
-        const LineAnchor anchor =
-            MakeLineAnchor(L_w, T_w_c.translation() + verify::RandomVector(rng));
-        Eigen::Vector2d s, e;
-        ProjectSegment(T_w_c, p1, p2, &s, &e);
-        s += verify::RandomVector(rng).head<2>();
-        e += verify::RandomVector(rng).head<2>();
-        verify::CostFunctionSample sample;
-        const Eigen::Matrix2d S = Eigen::Matrix2d::Identity();
-        sample.analytic.reset(AnchoredLineFactorVI::Create(kK, s, e, S, anchor));
-        sample.autodiff.reset(AnchoredLineFactorVI::CreateAutoDiff(kK, s, e, S, anchor));
-        Eigen::VectorXd pose_b(7), pose_bc(7);
-        (T_w_c * T_b_c.Inverse()).ToParameters(pose_b.data());
-        T_b_c.ToParameters(pose_bc.data());
-        sample.x = {pose_b, pose_bc, LineBlock(AnchoredFromWorld(L_w, anchor))};
-        sample.manifolds = {&pose_manifold, &pose_manifold, &line_manifold};
-        sample.what = "sample " + std::to_string(i);
-        return sample;
-      });
-  std::printf("window.anchored_line_vi: %d samples, %s\n", stats.samples,
-              stats.WorstErrors().c_str());
-  EXPECT_TRUE(stats.passed()) << stats.first_failure;
-  EXPECT_GE(stats.samples, 190);
 }
 
 TEST(AnchoredLineFactorVI, EqualsTheCameraFactorOnTheComposedPoseAndHonoursAHeldExtrinsic) {

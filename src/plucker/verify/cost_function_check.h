@@ -1,7 +1,8 @@
 // Checking a ceres::CostFunction's analytic Jacobians against its autodiff twin (in ambient
-// coordinates, <= 1e-9) and against central differences taken through each block's manifold Plus
-// (in tangent coordinates, <= 1e-6): the one sampling loop of the factor checks
-// (line_factor_checks.cc, point_factor_checks.cc, lidar_factor_checks.cc).
+// coordinates, <= 1e-9) and against central differences taken through each block's manifold Plus,
+// extrapolated by Ridders' method (in tangent coordinates, <= 1e-6; they reach ~1e-10, where a
+// fixed step reached ~1e-6 and failed on far lines now and then): the one sampling loop of the
+// factor checks (line_factor_checks.cc, point_factor_checks.cc, lidar_factor_checks.cc).
 #pragma once
 
 #include <ceres/cost_function.h>
@@ -28,7 +29,7 @@ struct CostFunctionSample {
   // Per block: the manifold whose Plus the central differences go through; nullptr differences
   // the raw (ambient) parameters.
   std::vector<const ceres::Manifold*> manifolds;
-  // Per block central-difference step; empty: 1e-6 for every block.
+  // Per block finest step of Ridders' tableau (which starts at 100 x this); empty: 1e-6.
   std::vector<double> steps;
   // The residual comparison is relative to max(|r|, residual_scale): raise it where the residual
   // is a difference of large terms (rounding grows with them).
@@ -44,10 +45,10 @@ bool EvaluateCostFunction(const ceres::CostFunction& f, const std::vector<Eigen:
 
 // The check `name` over make(rng, 0), make(rng, 1), ... (rng seeded with o.seed + seed_offset)
 // until o.samples were compared. Each sample compares analytic and autodiff (residual and ambient
-// Jacobian, concatenated over blocks) and analytic * PlusJacobian with central differences of the
-// analytic residual through Plus. An expected refusal by both versions counts as skipped; any
-// other refusal (by one version only, of an unguarded configuration, or of Plus / PlusJacobian)
-// is a failed sample.
+// Jacobian, concatenated over blocks) and analytic * PlusJacobian with Ridders-extrapolated central
+// differences of the analytic residual through Plus. An expected refusal by both versions counts as
+// skipped; any other refusal (by one version only, of an unguarded configuration, or of Plus /
+// PlusJacobian) is a failed sample.
 JacobianCheckStats RunCostFunctionCheck(const std::string& name, std::uint64_t seed_offset,
                                         const JacobianCheckOptions& o,
                                         const std::function<CostFunctionSample(Rng&, int)>& make);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace plucker {
@@ -26,6 +27,43 @@ Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen:
     xp(i) += h;
     xm(i) -= h;
     J.col(i) = (f(xp) - f(xm)) / (2.0 * h);
+  }
+  return J;
+}
+
+Eigen::MatrixXd RiddersJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                const Eigen::VectorXd& x, double h0, int levels) {
+  constexpr double kShrink = 2.0, kSafe = 2.0;
+  Eigen::MatrixXd J;
+  for (int i = 0; i < x.size(); ++i) {
+    const auto central = [&](double h) {
+      Eigen::VectorXd xp = x, xm = x;
+      xp(i) += h;
+      xm(i) -= h;
+      return Eigen::VectorXd((f(xp) - f(xm)) / (2.0 * h));
+    };
+    // tableau[k][j]: step h0 / kShrink^k, extrapolated j times.
+    std::vector<std::vector<Eigen::VectorXd>> tableau(levels);
+    Eigen::VectorXd best = central(h0);
+    tableau[0].push_back(best);
+    double best_error = std::numeric_limits<double>::infinity(), h = h0;
+    for (int k = 1; k < levels; ++k) {
+      h /= kShrink;
+      tableau[k].push_back(central(h));
+      double factor = kShrink * kShrink;
+      for (int j = 1; j <= k; ++j, factor *= kShrink * kShrink) {
+        tableau[k].push_back((factor * tableau[k][j - 1] - tableau[k - 1][j - 1]) / (factor - 1));
+        const double error = std::max((tableau[k][j] - tableau[k][j - 1]).norm(),
+                                      (tableau[k][j] - tableau[k - 1][j - 1]).norm());
+        if (error <= best_error) {
+          best_error = error;
+          best = tableau[k][j];
+        }
+      }
+      if ((tableau[k][k] - tableau[k - 1][k - 1]).norm() >= kSafe * best_error) break;
+    }
+    if (i == 0) J.resize(best.size(), x.size());
+    J.col(i) = best;
   }
   return J;
 }

@@ -44,6 +44,16 @@ Eigen::Matrix<double, kOut, kIn> AutoDiffJacobian(const F& f,
 Eigen::MatrixXd NumericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
                                 const Eigen::VectorXd& x, double h = 1e-6);
 
+// Ridders' extrapolation of central differences (Numerical Recipes, 3rd ed., section 5.7): per
+// column, differences at steps h0, h0/2, ..., h0/2^(levels-1), extrapolated to step 0 in a Neville
+// tableau; the entry with the smallest error estimate is kept, and the tableau stops once its
+// error grows. A fixed step trades truncation (curvature, e.g. a line 1 km away) against rounding
+// (large coordinates); this reaches ~1e-10 where a fixed 1e-6 step reaches ~1e-7, and it starts
+// far enough above the rounding level that a kink near x (a point on an edge) is stepped over only
+// by the coarse levels it discards.
+Eigen::MatrixXd RiddersJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                const Eigen::VectorXd& x, double h0, int levels = 10);
+
 // Statistics of one named check over many samples.
 struct JacobianCheckStats {
   std::string name;
