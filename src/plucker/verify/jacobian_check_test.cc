@@ -2,6 +2,8 @@
 // add their curated cases next to their code).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "plucker/verify/jacobian_check.h"
 
 namespace plucker {
@@ -31,6 +33,20 @@ TEST(Registry, HoldsEveryCheck) {
   EXPECT_EQ(GeometryJacobianChecks().size(), 12u);
   EXPECT_EQ(FactorJacobianChecks().size(), 14u);
   EXPECT_EQ(AllJacobianChecks().size(), 26u);
+}
+
+// Ridders' differences against the exact derivative of a function that varies on a scale of
+// 1e-3 (a far line's angle varies on 1e-6): a fixed 1e-6 step is limited by truncation there.
+TEST(RiddersJacobian, BeatsFixedStepCentralDifferencesWhereCurvatureIsHigh) {
+  const auto f = [](const Eigen::VectorXd& x) {
+    return Eigen::VectorXd::Constant(1, std::sin(1e3 * x(0)) * x(1));
+  };
+  const Eigen::Vector2d x(0.3, -0.2);
+  const Eigen::RowVector2d exact(1e3 * std::cos(1e3 * x(0)) * x(1), std::sin(1e3 * x(0)));
+  const double ridders = (RiddersJacobian(f, x, 1e-4) - exact).norm() / exact.norm();
+  const double fixed = (NumericJacobian(f, x, 1e-6) - exact).norm() / exact.norm();
+  EXPECT_LT(ridders, 1e-10);
+  EXPECT_GT(fixed, 1e-8);  // the case is hard for a fixed step
 }
 
 // A test of the tests: a misspelled filter (the defect of issue 7: "LineReprojection" for
