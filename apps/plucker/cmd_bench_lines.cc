@@ -22,6 +22,7 @@
 #include "plucker/io/image_folder.h"
 #include "plucker/io/segments.h"
 #include "plucker/vision/line_detector.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -140,70 +141,64 @@ std::vector<Score> Run(const std::vector<Image>& images, const std::vector<Varia
 }
 
 int RunBenchLines(const BenchLinesArgs& a) {
-  try {
-    if (a.repeat < 1) throw std::invalid_argument("--repeat must be >= 1");
-    const std::vector<Image> images = LoadData(a.data);
-    const std::vector<Variant> variants = Variants();
-    const std::vector<Score> scores = Run(images, variants, a.repeat);
-    std::size_t best_raw = 0, fld = 0, def = 0;
-    for (std::size_t k = 0; k < variants.size(); ++k) {
-      if (variants[k].raw && scores[k].at5.F() > scores[best_raw].at5.F()) best_raw = k;
-      if (variants[k].name == "fld") fld = k;
-      if (variants[k].name == "edlines-refined (default)") def = k;
-    }
-    const double gain = scores[def].at5.F() - scores[best_raw].at5.F();
-    const double gain_odd = scores[def].at5_odd.F() - scores[best_raw].at5_odd.F();
-    const double time_ratio = scores[def].MeanMs() / scores[fld].MeanMs();
-    if (a.json) {
-      nlohmann::json rows = nlohmann::json::array();
-      for (std::size_t k = 0; k < variants.size(); ++k) {
-        const Score& s = scores[k];
-        rows.push_back({{"method", variants[k].name},
-                        {"p5", s.at5.Precision()},
-                        {"r5", s.at5.Recall()},
-                        {"f5", s.at5.F()},
-                        {"p2", s.at2.Precision()},
-                        {"r2", s.at2.Recall()},
-                        {"f2", s.at2.F()},
-                        {"f5_even_tuning", s.at5_even.F()},
-                        {"f5_odd_held_out", s.at5_odd.F()},
-                        {"ms_mean", s.MeanMs()},
-                        {"ms_median", s.MedianMs()}});
-      }
-      std::cout << nlohmann::json{{"data", a.data},
-                                  {"images", images.size()},
-                                  {"repeat", a.repeat},
-                                  {"methods", rows},
-                                  {"f5_gain_over_best_raw", gain},
-                                  {"f5_gain_over_best_raw_held_out", gain_odd},
-                                  {"time_ratio_default_over_fld", time_ratio}}
-                       .dump(2)
-                << "\n";
-      return 0;
-    }
-    std::printf(
-        "%zu images of %s; coverage P/R/F at 5 and 2 px over all images; F5 on the even\n"
-        "(tuning) and odd (held-out) images; detection ms per image (best of %d)\n",
-        images.size(), a.data.c_str(), a.repeat);
-    std::printf("%-27s %6s %6s %6s | %6s %6s %6s | %7s %7s | %7s %7s\n", "method", "P5", "R5", "F5",
-                "P2", "R2", "F2", "F5 even", "F5 odd", "ms mean", "median");
+  if (a.repeat < 1) throw std::invalid_argument("--repeat must be >= 1");
+  const std::vector<Image> images = LoadData(a.data);
+  const std::vector<Variant> variants = Variants();
+  const std::vector<Score> scores = Run(images, variants, a.repeat);
+  std::size_t best_raw = 0, fld = 0, def = 0;
+  for (std::size_t k = 0; k < variants.size(); ++k) {
+    if (variants[k].raw && scores[k].at5.F() > scores[best_raw].at5.F()) best_raw = k;
+    if (variants[k].name == "fld") fld = k;
+    if (variants[k].name == "edlines-refined (default)") def = k;
+  }
+  const double gain = scores[def].at5.F() - scores[best_raw].at5.F();
+  const double gain_odd = scores[def].at5_odd.F() - scores[best_raw].at5_odd.F();
+  const double time_ratio = scores[def].MeanMs() / scores[fld].MeanMs();
+  if (a.json) {
+    nlohmann::json rows = nlohmann::json::array();
     for (std::size_t k = 0; k < variants.size(); ++k) {
       const Score& s = scores[k];
-      std::printf("%-27s %6.3f %6.3f %6.3f | %6.3f %6.3f %6.3f | %7.3f %7.3f | %7.1f %7.1f\n",
-                  variants[k].name.c_str(), s.at5.Precision(), s.at5.Recall(), s.at5.F(),
-                  s.at2.Precision(), s.at2.Recall(), s.at2.F(), s.at5_even.F(), s.at5_odd.F(),
-                  s.MeanMs(), s.MedianMs());
+      rows.push_back({{"method", variants[k].name},
+                      {"p5", s.at5.Precision()},
+                      {"r5", s.at5.Recall()},
+                      {"f5", s.at5.F()},
+                      {"p2", s.at2.Precision()},
+                      {"r2", s.at2.Recall()},
+                      {"f2", s.at2.F()},
+                      {"f5_even_tuning", s.at5_even.F()},
+                      {"f5_odd_held_out", s.at5_odd.F()},
+                      {"ms_mean", s.MeanMs()},
+                      {"ms_median", s.MedianMs()}});
     }
-    std::printf("target F5 >= best raw (%s) + 0.020: %+.4f (held-out half %+.4f)  %s\n",
-                variants[best_raw].name.c_str(), gain, gain_odd, gain >= 0.02 ? "PASS" : "MISS");
-    std::printf("target time <= raw fld: %.2fx fld  %s\n", time_ratio,
-                time_ratio <= 1.0 ? "PASS" : "MISS");
+    std::cout << nlohmann::json{{"data", a.data},
+                                {"images", images.size()},
+                                {"repeat", a.repeat},
+                                {"methods", rows},
+                                {"f5_gain_over_best_raw", gain},
+                                {"f5_gain_over_best_raw_held_out", gain_odd},
+                                {"time_ratio_default_over_fld", time_ratio}}
+                     .dump(2)
+              << "\n";
     return 0;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "plucker bench lines: error: " << e.what() << "\n";
-    return 1;
   }
+  std::printf(
+      "%zu images of %s; coverage P/R/F at 5 and 2 px over all images; F5 on the even\n"
+      "(tuning) and odd (held-out) images; detection ms per image (best of %d)\n",
+      images.size(), a.data.c_str(), a.repeat);
+  std::printf("%-27s %6s %6s %6s | %6s %6s %6s | %7s %7s | %7s %7s\n", "method", "P5", "R5", "F5",
+              "P2", "R2", "F2", "F5 even", "F5 odd", "ms mean", "median");
+  for (std::size_t k = 0; k < variants.size(); ++k) {
+    const Score& s = scores[k];
+    std::printf("%-27s %6.3f %6.3f %6.3f | %6.3f %6.3f %6.3f | %7.3f %7.3f | %7.1f %7.1f\n",
+                variants[k].name.c_str(), s.at5.Precision(), s.at5.Recall(), s.at5.F(),
+                s.at2.Precision(), s.at2.Recall(), s.at2.F(), s.at5_even.F(), s.at5_odd.F(),
+                s.MeanMs(), s.MedianMs());
+  }
+  std::printf("target F5 >= best raw (%s) + 0.020: %+.4f (held-out half %+.4f)  %s\n",
+              variants[best_raw].name.c_str(), gain, gain_odd, gain >= 0.02 ? "PASS" : "MISS");
+  std::printf("target time <= raw fld: %.2fx fld  %s\n", time_ratio,
+              time_ratio <= 1.0 ? "PASS" : "MISS");
+  return 0;
 }
 
 }  // namespace
@@ -216,7 +211,8 @@ void RegisterBenchLines(CLI::App& bench, int* exit_code) {
   cmd->add_option("--repeat", a->repeat, "Time each detection this many times, keep the best")
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Machine-readable output");
-  cmd->callback([a, exit_code] { *exit_code = RunBenchLines(*a); });
+  cmd->callback(
+      [a, exit_code] { RunGuarded("bench lines", exit_code, [&] { return RunBenchLines(*a); }); });
 }
 
 }  // namespace app

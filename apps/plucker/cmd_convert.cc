@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/trajectory_io.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -46,15 +47,8 @@ void RegisterConvert(CLI::App& app, int* exit_code) {
   strecha->add_option("--cameras", args->cameras, "Folder of the *.camera files")->required();
   strecha->add_option("--out", args->out, "KITTI poses file to write")->required();
   strecha->add_flag("--quiet", args->quiet, "No summary line");
-  strecha->callback([args, exit_code] {
-    try {
-      RunStrecha(*args);
-      *exit_code = 0;
-    } catch (const std::exception& e) {
-      std::cerr << "plucker convert: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  strecha->callback(
+      [args, exit_code] { RunGuarded("convert", exit_code, [&] { RunStrecha(*args); }); });
 }
 
 }  // namespace app

@@ -22,6 +22,7 @@
 #include "plucker/eval/rpe.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -413,18 +414,6 @@ void RunRpe(const EvalArgs& a) {
   }
 }
 
-// Runs one subcommand, turning every error into "plucker eval: error: ..." and exit code 1.
-void Guarded(void (*run)(const EvalArgs&), const EvalArgs& a, int* exit_code) {
-  try {
-    run(a);
-    *exit_code = 0;
-  } catch (const std::exception& e) {
-    std::cout.flush();
-    std::cerr << "plucker eval: error: " << e.what() << "\n";
-    *exit_code = 1;
-  }
-}
-
 }  // namespace
 
 void RegisterEval(CLI::App& app, int* exit_code) {
@@ -437,7 +426,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   CLI::App* kitti = eval_cmd->add_subcommand(
       "kitti", "KITTI odometry metric: translation % and rotation deg/100 m over 100..800 m");
   AddCommonOptions(kitti, kitti_args.get());
-  kitti->callback([kitti_args, exit_code] { Guarded(RunKitti, *kitti_args, exit_code); });
+  kitti->callback(
+      [kitti_args, exit_code] { RunGuarded("eval", exit_code, [&] { RunKitti(*kitti_args); }); });
 
   auto ate_args = std::make_shared<EvalArgs>();
   ate_args->align = "se3";
@@ -448,7 +438,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
                   "visual-inertial odometry observes) or none")
       ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
-  ate->callback([ate_args, exit_code] { Guarded(RunAte, *ate_args, exit_code); });
+  ate->callback(
+      [ate_args, exit_code] { RunGuarded("eval", exit_code, [&] { RunAte(*ate_args); }); });
 
   auto rpe_args = std::make_shared<EvalArgs>();
   rpe_args->align = "none";
@@ -465,7 +456,8 @@ void RegisterEval(CLI::App& app, int* exit_code) {
                   "Alignment before RPE: none, se3 (no effect) or sim3 (rescales the estimate)")
       ->check(CLI::IsMember({"none", "se3", "sim3"}))
       ->capture_default_str();
-  rpe->callback([rpe_args, exit_code] { Guarded(RunRpe, *rpe_args, exit_code); });
+  rpe->callback(
+      [rpe_args, exit_code] { RunGuarded("eval", exit_code, [&] { RunRpe(*rpe_args); }); });
 
   AddEvalImu(eval_cmd, exit_code);
   AddEvalInit(eval_cmd, exit_code);

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "plucker/eval/imu_consistency.h"
 #include "plucker/io/euroc_imu.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -111,16 +112,7 @@ void AddEvalImu(CLI::App* eval_cmd, int* exit_code) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print machine-readable JSON instead of a table");
-  cmd->callback([a, exit_code] {
-    try {
-      Run(*a);
-      *exit_code = 0;
-    } catch (const std::exception& e) {
-      std::cout.flush();
-      std::cerr << "plucker eval imu: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback([a, exit_code] { RunGuarded("eval imu", exit_code, [&] { Run(*a); }); });
 }
 
 }  // namespace app

@@ -24,6 +24,7 @@
 #include "plucker/inertial/visual_inertial_alignment.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/euroc_imu.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -326,16 +327,7 @@ void AddEvalInit(CLI::App* eval_cmd, int* exit_code) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print machine-readable JSON instead of a table");
-  cmd->callback([a, exit_code] {
-    try {
-      Run(*a);
-      *exit_code = 0;
-    } catch (const std::exception& e) {
-      std::cout.flush();
-      std::cerr << "plucker eval init: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback([a, exit_code] { RunGuarded("eval init", exit_code, [&] { Run(*a); }); });
 }
 
 }  // namespace app

@@ -18,6 +18,7 @@
 #include "plucker/eval/line_coverage.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/segments.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -123,32 +124,26 @@ void Print(const EvalLinesArgs& a, const std::vector<ImageResult>& results,
 }
 
 int RunEvalLines(const EvalLinesArgs& a) {
-  try {
-    if (!(a.threshold >= 0.0)) throw std::invalid_argument("--threshold must be >= 0");
-    std::error_code ec;
-    if (!fs::is_directory(a.est, ec)) throw io::IoError(a.est, "not a folder");
-    std::vector<ImageResult> results;
-    eval::LineCoverage overall;
-    double ms_sum = 0.0;
-    int ms_count = 0, missing = 0;
-    for (const std::string& name : GroundTruthNames(a.gt)) {
-      results.push_back(EvaluateImage(a, name));
-      const ImageResult& r = results.back();
-      overall += r.coverage;
-      if (r.ms) ms_sum += *r.ms, ++ms_count;
-      if (r.est_missing) {
-        ++missing;
-        std::cerr << "plucker eval lines: warning: " << a.est << "/" << name
-                  << ".txt missing: counted as no detection\n";
-      }
+  if (!(a.threshold >= 0.0)) throw std::invalid_argument("--threshold must be >= 0");
+  std::error_code ec;
+  if (!fs::is_directory(a.est, ec)) throw io::IoError(a.est, "not a folder");
+  std::vector<ImageResult> results;
+  eval::LineCoverage overall;
+  double ms_sum = 0.0;
+  int ms_count = 0, missing = 0;
+  for (const std::string& name : GroundTruthNames(a.gt)) {
+    results.push_back(EvaluateImage(a, name));
+    const ImageResult& r = results.back();
+    overall += r.coverage;
+    if (r.ms) ms_sum += *r.ms, ++ms_count;
+    if (r.est_missing) {
+      ++missing;
+      std::cerr << "plucker eval lines: warning: " << a.est << "/" << name
+                << ".txt missing: counted as no detection\n";
     }
-    Print(a, results, overall, ms_count > 0 ? ms_sum / ms_count : 0.0, ms_count, missing);
-    return 0;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "plucker eval lines: error: " << e.what() << "\n";
-    return 1;
   }
+  Print(a, results, overall, ms_count > 0 ? ms_sum / ms_count : 0.0, ms_count, missing);
+  return 0;
 }
 
 }  // namespace
@@ -163,7 +158,8 @@ void RegisterEvalLines(CLI::App& eval_cmd, int* exit_code) {
       ->required();
   cmd->add_option("--threshold", a->threshold, "Coverage distance tau [px]")->capture_default_str();
   cmd->add_flag("--json", a->json, "Print machine-readable JSON instead of a table");
-  cmd->callback([a, exit_code] { *exit_code = RunEvalLines(*a); });
+  cmd->callback(
+      [a, exit_code] { RunGuarded("eval lines", exit_code, [&] { return RunEvalLines(*a); }); });
 }
 
 }  // namespace app

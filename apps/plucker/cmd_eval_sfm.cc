@@ -14,6 +14,7 @@
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -79,14 +80,7 @@ void RegisterEvalSfm(CLI::App& eval_cmd, int* exit_code) {
       ->check(CLI::IsMember({"sim3", "se3"}))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print JSON");
-  cmd->callback([a, exit_code]() {
-    try {
-      *exit_code = Run(*a);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker eval sfm: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback([a, exit_code]() { RunGuarded("eval sfm", exit_code, [&] { return Run(*a); }); });
 }
 
 }  // namespace app

@@ -21,6 +21,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/segments.h"
 #include "plucker/vision/line_detector.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -160,18 +161,12 @@ int RunFolder(const DetectArgs& a, const vision::LineDetectorOptions& options) {
 }
 
 int RunDetect(const DetectArgs& a) {
-  try {
-    if (a.image.empty() == a.images.empty()) {
-      throw std::invalid_argument("give exactly one of --image IMG or --images DIR");
-    }
-    if (!(a.min_length >= 0.0)) throw std::invalid_argument("--min-length must be >= 0");
-    const vision::LineDetectorOptions options = Options(a);
-    return a.image.empty() ? RunFolder(a, options) : RunSingle(a, options);
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "plucker lines detect: error: " << e.what() << "\n";
-    return 1;
+  if (a.image.empty() == a.images.empty()) {
+    throw std::invalid_argument("give exactly one of --image IMG or --images DIR");
   }
+  if (!(a.min_length >= 0.0)) throw std::invalid_argument("--min-length must be >= 0");
+  const vision::LineDetectorOptions options = Options(a);
+  return a.image.empty() ? RunFolder(a, options) : RunSingle(a, options);
 }
 
 }  // namespace
@@ -195,7 +190,8 @@ void RegisterLines(CLI::App& app, int* exit_code) {
   detect->add_option("--min-length", a->min_length, "Drop segments shorter than this [px]")
       ->capture_default_str();
   detect->add_flag("--quiet", a->quiet, "No progress lines (warnings and errors still print)");
-  detect->callback([a, exit_code] { *exit_code = RunDetect(*a); });
+  detect->callback(
+      [a, exit_code] { RunGuarded("lines detect", exit_code, [&] { return RunDetect(*a); }); });
   AddLinesTrack(lines, exit_code);  // lines match, lines track (cmd_lines_track.cc)
 }
 

@@ -40,6 +40,7 @@
 #include "plucker/vision/line_matcher.h"
 #include "plucker/vision/line_tracker.h"
 #include "plucker/vision/point_tracker.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -421,17 +422,6 @@ int RunEvalTracks(const EvalTracksArgs& a) {
   return 0;
 }
 
-template <typename Args>
-void Guarded(const char* name, int (*run)(const Args&), const Args& a, int* exit_code) {
-  try {
-    *exit_code = run(a);
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "plucker " << name << ": error: " << e.what() << "\n";
-    *exit_code = 1;
-  }
-}
-
 }  // namespace
 
 void AddLinesTrack(CLI::App* lines, int* exit_code) {
@@ -444,7 +434,8 @@ void AddLinesTrack(CLI::App* lines, int* exit_code) {
   match->add_option("--out", m->out, "Matches file: both segments and the Hamming distance");
   match->add_option("--draw", m->draw, "Picture of the matches (image 1 above image 2)");
   match->add_flag("--quiet", m->quiet, "No statistics (warnings and errors still print)");
-  match->callback([m, exit_code] { Guarded("lines match", RunMatch, *m, exit_code); });
+  match->callback(
+      [m, exit_code] { RunGuarded("lines match", exit_code, [&] { return RunMatch(*m); }); });
 
   auto t = std::make_shared<TrackArgs>();
   CLI::App* track = lines->add_subcommand(
@@ -478,7 +469,8 @@ void AddLinesTrack(CLI::App* lines, int* exit_code) {
       ->capture_default_str();
   track->add_flag("--json", t->json, "Summary as JSON");
   track->add_flag("--quiet", t->quiet, "No progress lines (warnings and errors still print)");
-  track->callback([t, exit_code] { Guarded("lines track", RunTrack, *t, exit_code); });
+  track->callback(
+      [t, exit_code] { RunGuarded("lines track", exit_code, [&] { return RunTrack(*t); }); });
 }
 
 void RegisterEvalTracks(CLI::App& eval_cmd, int* exit_code) {
@@ -492,7 +484,8 @@ void RegisterEvalTracks(CLI::App& eval_cmd, int* exit_code) {
   cmd->add_option("--threshold", a->threshold, "Reprojection limit [px]")->capture_default_str();
   cmd->add_option("--min-views", a->min_views, "Shortest evaluated track")->capture_default_str();
   cmd->add_flag("--json", a->json, "Output as JSON");
-  cmd->callback([a, exit_code] { Guarded("eval tracks", RunEvalTracks, *a, exit_code); });
+  cmd->callback(
+      [a, exit_code] { RunGuarded("eval tracks", exit_code, [&] { return RunEvalTracks(*a); }); });
 }
 
 }  // namespace app

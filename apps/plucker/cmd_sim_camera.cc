@@ -11,6 +11,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/sim/camera_observations.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -98,14 +99,8 @@ void RegisterSimCamera(CLI::App& sim, int* exit_code) {
   cmd->add_option("--imu-rate", args->imu_rate, "IMU rate (Hz)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->callback([args, exit_code]() {
-    try {
-      *exit_code = Run(*args);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker sim camera: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback(
+      [args, exit_code]() { RunGuarded("sim camera", exit_code, [&] { return Run(*args); }); });
 }
 
 }  // namespace app

@@ -21,6 +21,7 @@
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
+#include "run_guarded.h"
 
 namespace plucker {
 namespace app {
@@ -150,14 +151,8 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
   cmd->add_flag("--distortion", args->distortion,
                 "Move the sensor during each sweep and also write pcd/NNNNNN.pcd with per-point "
                 "time (for deskewing)");
-  cmd->callback([args, exit_code]() {
-    try {
-      *exit_code = Run(*args);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker sim lidar: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback(
+      [args, exit_code]() { RunGuarded("sim lidar", exit_code, [&] { return Run(*args); }); });
 }
 
 }  // namespace app

@@ -32,6 +32,7 @@
 #include "plucker/io/trajectory_io.h"
 #include "plucker/window/sliding_window_estimator.h"
 #include "plucker/window/two_view_initialization.h"
+#include "run_guarded.h"
 #include "stage_clock.h"
 #include "vo_config.h"
 #include "vo_draw.h"
@@ -496,7 +497,7 @@ void RegisterVo(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
-    try {
+    RunGuarded("vo", exit_code, [&] {
       const VoImageSource& im = args->images;
       if (args->features.empty() == im.images.empty()) {
         throw std::invalid_argument("give --features DIR or --images DIR");
@@ -517,11 +518,8 @@ void RegisterVo(CLI::App& app, int* exit_code) {
       if (args->drop_marginalized_lines) w.keep_marginalized_lines = false;
       if (args->no_fej) w.first_estimate_jacobians = false;
       if (args->no_line_conditioning) w.condition_far_lines = false;
-      *exit_code = Run(*args, config);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker vo: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
+      return Run(*args, config);
+    });
   });
 }
 
