@@ -48,6 +48,9 @@ struct VioConfig {
   bool use_lines = true;
   int point_stride = 1;
   int window = 10;
+  // The poses-only prior (DSO pattern, the velocity and bias blocks and the IMU factor kept;
+  // docs/vio.md); false: the prior on the landmarks of the marginalized keyframe (slower).
+  bool prior_on_poses_only = true;
   // Keyframes and solver budget: the IMU bridges longer gaps between keyframes than VO needs.
   // On the room (60 s, seed 1) parallax 20 px, ratio 0.3 and 4 iterations took 152 keyframes of
   // 600: 0.037 m ATE at 2.4x real time (6.2x with --point-stride 2); VO's 10 px, 0.6 and 10
@@ -92,6 +95,7 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"use_lines", Field(&VioConfig::use_lines)},
       {"point_stride", Field(&VioConfig::point_stride)},
       {"window", Field(&VioConfig::window)},
+      {"prior_on_poses_only", Field(&VioConfig::prior_on_poses_only)},
       {"iterations", Field(&VioConfig::iterations)},
       {"keyframe_parallax_px", Field(&VioConfig::keyframe_parallax_px)},
       {"min_tracked", Field(&VioConfig::min_tracked)},
@@ -144,6 +148,8 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   o.window_size = c.window;
   o.max_iterations = c.iterations;
   o.use_lines = c.use_lines;
+  o.prior_blocks = c.prior_on_poses_only ? window::SlidingWindowOptions::PriorBlocks::kPoses
+                                         : window::SlidingWindowOptions::PriorBlocks::kLandmarks;
   o.keyframe_parallax_px = c.keyframe_parallax_px;
   o.min_tracked = c.min_tracked;
   o.min_tracked_ratio = c.min_tracked_ratio;
@@ -582,12 +588,13 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_option("--out", args->out, "Output TUM trajectory of the body frame T_w_b")->required();
   cmd->add_option("--json", args->json, "Per-frame statistics, stage times and a summary (JSON)");
   cmd->add_option("--plot", args->plot, "SVG: top view (against the ground truth if present)");
-  cmd->add_option("--config", args->config,
-                  "YAML options (docs/vio.md): any of use_lines, point_stride, window, "
-                  "iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
-                  "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
-                  "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
-                  "init_min_excitation, image_still_px")
+  cmd->add_option(
+         "--config", args->config,
+         "YAML options (docs/vio.md): any of use_lines, point_stride, window, "
+         "prior_on_poses_only, iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
+         "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
+         "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
+         "init_min_excitation, image_still_px")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-lines", args->no_lines, "Points only");
   CLI::Option* stride =
