@@ -150,6 +150,7 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   o.use_lines = c.use_lines;
   o.prior_blocks = c.prior_on_poses_only ? window::SlidingWindowOptions::PriorBlocks::kPoses
                                          : window::SlidingWindowOptions::PriorBlocks::kLandmarks;
+  o.retire_marginalized_tracks = false;  // features folders: ids are scene ids, revisited
   o.keyframe_parallax_px = c.keyframe_parallax_px;
   o.min_tracked = c.min_tracked;
   o.min_tracked_ratio = c.min_tracked_ratio;

@@ -927,7 +927,7 @@ struct SlidingWindowEstimator::Impl {
     // Landmarks leaving the window: observed by no remaining keyframe, or by k0 and no longer
     // tracked by the newest keyframe.
     std::set<const double*> leaving;
-    std::vector<int> remove_points, remove_lines;
+    std::vector<int> remove_points, remove_lines, retire_point, retire_line;
     for (std::size_t i = 0; i < f0->input.points.size(); ++i) {
       const int id = f0->input.points[i].point_id;
       if (f0->point_outlier[i] || !points.count(id)) continue;
@@ -935,7 +935,7 @@ struct SlidingWindowEstimator::Impl {
         ++result->dropped_point_observations;
       } else {
         leaving.insert(points[id]->p);
-        retired_points.insert(id);
+        retire_point.push_back(id);
       }
     }
     for (std::size_t i = 0; i < f0->input.segments.size(); ++i) {
@@ -945,7 +945,7 @@ struct SlidingWindowEstimator::Impl {
         ++result->dropped_line_observations;
       } else {
         leaving.insert(lines[id]->block);
-        retired_lines.insert(id);
+        retire_line.push_back(id);
       }
     }
     for (const auto& [id, p] : points)
@@ -1072,6 +1072,8 @@ struct SlidingWindowEstimator::Impl {
       }
     }
     InstallPrior(std::move(next), next_blocks, result);
+    ConsumeTracks(retire_point, retire_line);
+    ConsumeTracks(retire_point, retire_line);
     keyframes.pop_front();
     keyframes.front()->imu_from_previous.reset();
     keyframes.front()->state_prior = false;
@@ -1080,6 +1082,27 @@ struct SlidingWindowEstimator::Impl {
     result->marginalized_keyframes = 1;
     result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
     RemoveWeakLandmarks();
+  }
+
+  // The tracks whose landmark went into a poses-only prior with all its window observations:
+  // retired (never triangulated again), or with retire_marginalized_tracks = false those
+  // observations are marked used (outliers) so that the track can start a new landmark from
+  // later keyframes only (a revisited scene point of a features folder, whose ids are scene ids)
+  // without counting them twice.
+  void ConsumeTracks(const std::vector<int>& point_ids, const std::vector<int>& line_ids) {
+    if (opt.retire_marginalized_tracks) {
+      retired_points.insert(point_ids.begin(), point_ids.end());
+      retired_lines.insert(line_ids.begin(), line_ids.end());
+      return;
+    }
+    const std::set<int> pset(point_ids.begin(), point_ids.end());
+    const std::set<int> lset(line_ids.begin(), line_ids.end());
+    for (auto& f : keyframes) {
+      for (std::size_t i = 0; i < f->input.points.size(); ++i)
+        if (pset.count(f->input.points[i].point_id)) f->point_outlier[i] = 1;
+      for (std::size_t i = 0; i < f->input.segments.size(); ++i)
+        if (lset.count(f->input.segments[i].line_id)) f->segment_outlier[i] = 1;
+    }
   }
 
   // The new prior and its first estimates (none if empty).

@@ -137,6 +137,11 @@ struct SlidingWindowOptions {
   // lives on poses only (at most 6 x window_size), and the window solve stays sparse.
   enum class PriorBlocks { kLandmarks, kPoses };
   PriorBlocks prior_blocks = PriorBlocks::kLandmarks;
+  // kPoses: a track whose landmark went into the prior is retired (true; image tracks end for
+  // good), or only its window observations are marked used, so that the same id can start a new
+  // landmark from later keyframes (false; features folders whose ids are scene ids, revisited:
+  // retiring them starved the 60 s room of points after 16 s).
+  bool retire_marginalized_tracks = true;
   // When motion-only tracking fails (too few inliers from the prediction, e.g. after a jump):
   // PnP RANSAC (OpenCV EPnP) of the frame's point tracks against the window's 3D points, then
   // tracking again from that pose.
