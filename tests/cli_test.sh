@@ -420,6 +420,14 @@ expect vio-imu-gap-json 0 "frame 12: no IMU coverage" -- cat "$T/vgap.json"
 printf 'window: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
 expect vio-bad-config nonzero "vio_bad.yaml: unknown option 'windw'" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_bad.yaml"
+printf 'line_detection_scale: 2\n' > "$T/vio_range.yaml"
+expect vio-config-range nonzero "vio_range.yaml: an option is out of range" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range.yaml"
+# The prior on the landmarks (the poses-only prior is the default) still runs.
+printf 'prior_on_poses_only: false\n' > "$T/vio_full.yaml"
+expect vio-landmark-prior 0 "40 frames, dynamic initialisation" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_full.tum" --no-lines --point-stride 2 \
+  --config "$T/vio_full.yaml"
 expect vio-no-source nonzero "give --features DIR or --euroc DIR" -- "$PLUCKER" vio --out "$T/x.tum"
 expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \
   "$PLUCKER" vio --features "$T/nothing" --out "$T/vio_x.tum"

@@ -48,6 +48,9 @@ struct VioConfig {
   bool use_lines = true;
   int point_stride = 1;
   int window = 10;
+  // The poses-only prior (DSO pattern, the velocity and bias blocks and the IMU factor kept;
+  // docs/vio.md); false: the prior on the landmarks of the marginalized keyframe (slower).
+  bool prior_on_poses_only = true;
   // Keyframes and solver budget: the IMU bridges longer gaps between keyframes than VO needs.
   // On the room (60 s, seed 1) parallax 20 px, ratio 0.3 and 4 iterations took 152 keyframes of
   // 600: 0.037 m ATE at 2.4x real time (6.2x with --point-stride 2); VO's 10 px, 0.6 and 10
@@ -66,6 +69,12 @@ struct VioConfig {
   // A frame whose median point displacement against the previous frame exceeds this moves
   // (vetoes the static initialisation over its IMU block).
   double image_still_px = 3.0;
+  // EuRoC image front end: the speed settings of `plucker vo --images` (docs/vo.md).
+  int max_point_tracks = 200;
+  double point_min_distance_px = 20.0;
+  int line_max_segments = 60;         // longest segments kept per image (0: all)
+  double line_detection_scale = 0.5;  // image scale of the segment detection
+  int line_flow_samples = 3;          // points per segment followed by optical flow
 };
 
 struct VioArgs {
@@ -92,6 +101,7 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"use_lines", Field(&VioConfig::use_lines)},
       {"point_stride", Field(&VioConfig::point_stride)},
       {"window", Field(&VioConfig::window)},
+      {"prior_on_poses_only", Field(&VioConfig::prior_on_poses_only)},
       {"iterations", Field(&VioConfig::iterations)},
       {"keyframe_parallax_px", Field(&VioConfig::keyframe_parallax_px)},
       {"min_tracked", Field(&VioConfig::min_tracked)},
@@ -104,6 +114,11 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"init_max_keyframes", Field(&VioConfig::init_max_keyframes)},
       {"init_min_excitation", Field(&VioConfig::init_min_excitation)},
       {"image_still_px", Field(&VioConfig::image_still_px)},
+      {"max_point_tracks", Field(&VioConfig::max_point_tracks)},
+      {"point_min_distance_px", Field(&VioConfig::point_min_distance_px)},
+      {"line_max_segments", Field(&VioConfig::line_max_segments)},
+      {"line_detection_scale", Field(&VioConfig::line_detection_scale)},
+      {"line_flow_samples", Field(&VioConfig::line_flow_samples)},
   };
   return fields;
 }
@@ -131,10 +146,14 @@ void ApplyConfig(const std::string& path, VioConfig* c) {
   if (c->point_stride < 1 || c->window < 2 || c->iterations < 1 || c->init_min_keyframes < 4 ||
       c->init_max_keyframes < c->init_min_keyframes || !(c->max_keyframe_interval_s > 0.0) ||
       !(c->gyro_bias_prior_sigma > 0.0) || !(c->accel_bias_prior_sigma > 0.0) ||
-      !(c->velocity_prior_sigma > 0.0)) {
+      !(c->velocity_prior_sigma > 0.0) || c->max_point_tracks < 1 ||
+      !(c->point_min_distance_px > 0.0) || c->line_max_segments < 0 ||
+      !(c->line_detection_scale > 0.0 && c->line_detection_scale <= 1.0) ||
+      c->line_flow_samples < 2) {
     throw io::IoError(path,
                       "an option is out of range (point_stride >= 1, window >= 2, "
-                      "init_min_keyframes >= 4, sigmas and intervals > 0)");
+                      "init_min_keyframes >= 4, sigmas and intervals > 0, "
+                      "0 < line_detection_scale <= 1, line_flow_samples >= 2)");
   }
 }
 
@@ -144,6 +163,9 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   o.window_size = c.window;
   o.max_iterations = c.iterations;
   o.use_lines = c.use_lines;
+  o.prior_blocks = c.prior_on_poses_only ? window::SlidingWindowOptions::PriorBlocks::kPoses
+                                         : window::SlidingWindowOptions::PriorBlocks::kLandmarks;
+  o.retire_marginalized_tracks = false;  // features folders: ids are scene ids, revisited
   o.keyframe_parallax_px = c.keyframe_parallax_px;
   o.min_tracked = c.min_tracked;
   o.min_tracked_ratio = c.min_tracked_ratio;
@@ -157,6 +179,18 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   inertial.velocity_prior_sigma = c.velocity_prior_sigma;
   inertial.max_keyframe_interval_s = c.max_keyframe_interval_s;
   o.inertial = inertial;
+  return o;
+}
+
+// The EuRoC image front end's options from the configuration.
+vision::ImageFrontendOptions FrontendOptions(const VioConfig& c) {
+  vision::ImageFrontendOptions o;
+  o.use_lines = c.use_lines;
+  o.points.target_count = c.max_point_tracks;
+  o.points.min_distance_px = c.point_min_distance_px;
+  o.max_segments = c.line_max_segments;
+  o.detection_scale = c.line_detection_scale;
+  o.lines.flow_samples = c.line_flow_samples;
   return o;
 }
 
@@ -378,7 +412,7 @@ int Run(const VioArgs& a) {
   VioConfig cfg = a.cfg;
   if (a.no_lines) cfg.use_lines = false;
   VioInput in = a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride)
-                                : ReadVioEuroc(a.euroc, cfg.use_lines, a.quiet);
+                                : ReadVioEuroc(a.euroc, FrontendOptions(cfg), a.quiet);
   // Frames without image motion: the window's zero-motion update (a standing body).
   const std::vector<inertial::ImageMotionFlag> motion = ImageMotion(in, cfg.image_still_px);
   for (std::size_t i = 1, k = 0; i < in.frames.size(); ++i) {
@@ -582,12 +616,14 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_option("--out", args->out, "Output TUM trajectory of the body frame T_w_b")->required();
   cmd->add_option("--json", args->json, "Per-frame statistics, stage times and a summary (JSON)");
   cmd->add_option("--plot", args->plot, "SVG: top view (against the ground truth if present)");
-  cmd->add_option("--config", args->config,
-                  "YAML options (docs/vio.md): any of use_lines, point_stride, window, "
-                  "iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
-                  "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
-                  "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
-                  "init_min_excitation, image_still_px")
+  cmd->add_option(
+         "--config", args->config,
+         "YAML options (docs/vio.md): any of use_lines, point_stride, window, "
+         "prior_on_poses_only, iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
+         "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
+         "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
+         "init_min_excitation, image_still_px, max_point_tracks, point_min_distance_px, "
+         "line_max_segments, line_detection_scale, line_flow_samples")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-lines", args->no_lines, "Points only");
   CLI::Option* stride =

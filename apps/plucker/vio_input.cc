@@ -63,7 +63,8 @@ const char* kFrontendStages[vision::kNumFrontendStages] = {"points", "detection"
 
 }  // namespace
 
-VioInput ReadVioEuroc(const std::string& dir, bool use_lines, bool quiet) {
+VioInput ReadVioEuroc(const std::string& dir, const vision::ImageFrontendOptions& options,
+                      bool quiet) {
   const io::EurocDataset data = io::ReadEurocDataset(dir);
   VioInput in;
   in.source = dir;
@@ -74,8 +75,6 @@ VioInput ReadVioEuroc(const std::string& dir, bool use_lines, bool quiet) {
   in.warnings.insert(in.warnings.end(), data.warnings.begin(), data.warnings.end());
   const vision::Undistorter undistorter(data.cam0.camera);
   in.K = undistorter.ideal_camera().K;
-  vision::ImageFrontendOptions options;
-  options.use_lines = use_lines;
   vision::ImageFrontend frontend(in.K, options);
   std::array<double, vision::kNumFrontendStages> total{};
   const double t_start = ThreadCpuMs();

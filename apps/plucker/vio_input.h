@@ -12,6 +12,7 @@
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/sensor/imu.h"
+#include "plucker/vision/image_frontend.h"
 #include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
@@ -38,7 +39,8 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride);
 
 // EuRoC folder (with mav0/ or mav0 itself): frames the IMU does not cover, repeated timestamps
 // and missing or unreadable images are skipped and named in `warnings`. Throws io::IoError.
-VioInput ReadVioEuroc(const std::string& dir, bool use_lines, bool quiet);
+VioInput ReadVioEuroc(const std::string& dir, const vision::ImageFrontendOptions& frontend,
+                      bool quiet);
 
 }  // namespace app
 }  // namespace plucker

@@ -123,6 +123,49 @@ class HeldExtrinsicCost final : public ceres::SizedCostFunction<2, 7, kN> {
   double T_b_c_[7];
 };
 
+// A pose whose position and yaw are held: the tangent is the rotation about the world x and y
+// axes (R <- Exp([a, b, 0]) R, i.e. dtheta = R^T [a, b, 0] in the PoseManifold tangent). The
+// gauge of the visual-inertial window (position and yaw) fixed on one pose, its roll and pitch
+// (observable through gravity) left free: the covariance of another pose relative to it.
+class RollPitchPoseManifold final : public ceres::Manifold {
+ public:
+  int AmbientSize() const override { return 7; }
+  int TangentSize() const override { return 2; }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+    d.head<3>() = Lift(x) * Eigen::Map<const Eigen::Vector2d>(delta);
+    return pose_.Plus(x, d.data(), x_plus_delta);
+  }
+  bool PlusJacobian(const double* x, double* jacobian) const override {
+    Eigen::Matrix<double, 7, 6, Eigen::RowMajor> J;
+    if (!pose_.PlusJacobian(x, J.data())) return false;
+    Eigen::Map<Eigen::Matrix<double, 7, 2, Eigen::RowMajor>> out(jacobian);
+    out = J.leftCols<3>() * Lift(x);
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
+    Eigen::Matrix<double, 6, 1> d;
+    if (!pose_.Minus(y, x, d.data())) return false;
+    Eigen::Map<Eigen::Vector2d> out(y_minus_x);
+    out = Lift(x).transpose() * d.head<3>();
+    return true;
+  }
+  bool MinusJacobian(const double* x, double* jacobian) const override {
+    Eigen::Matrix<double, 6, 7, Eigen::RowMajor> J;
+    if (!pose_.MinusJacobian(x, J.data())) return false;
+    Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> out(jacobian);
+    out = Lift(x).transpose() * J.topRows<3>();
+    return true;
+  }
+
+ private:
+  // R^T [e_x, e_y]: world x, y rotations in the body tangent (orthonormal columns).
+  static Eigen::Matrix<double, 3, 2> Lift(const double* x) {
+    return SE3d::FromParameters(x).RotationMatrix().transpose().leftCols<2>();
+  }
+  PoseManifold pose_;
+};
+
 enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias };
 
 struct Frame {
@@ -884,7 +927,7 @@ struct SlidingWindowEstimator::Impl {
     // Landmarks leaving the window: observed by no remaining keyframe, or by k0 and no longer
     // tracked by the newest keyframe.
     std::set<const double*> leaving;
-    std::vector<int> remove_points, remove_lines;
+    std::vector<int> remove_points, remove_lines, retire_point, retire_line;
     for (std::size_t i = 0; i < f0->input.points.size(); ++i) {
       const int id = f0->input.points[i].point_id;
       if (f0->point_outlier[i] || !points.count(id)) continue;
@@ -892,7 +935,7 @@ struct SlidingWindowEstimator::Impl {
         ++result->dropped_point_observations;
       } else {
         leaving.insert(points[id]->p);
-        retired_points.insert(id);
+        retire_point.push_back(id);
       }
     }
     for (std::size_t i = 0; i < f0->input.segments.size(); ++i) {
@@ -902,7 +945,7 @@ struct SlidingWindowEstimator::Impl {
         ++result->dropped_line_observations;
       } else {
         leaving.insert(lines[id]->block);
-        retired_lines.insert(id);
+        retire_line.push_back(id);
       }
     }
     for (const auto& [id, p] : points)
@@ -913,23 +956,32 @@ struct SlidingWindowEstimator::Impl {
     // Every window residual of the leaving landmarks, grouped by landmark.
     std::vector<ResidualSpec> all;
     for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &all);
-    std::map<const double*, std::vector<ResidualSpec*>> by_landmark;
+    // In the order of first observation (not of the addresses: the run is deterministic).
+    std::vector<std::pair<const double*, std::vector<ResidualSpec*>>> by_landmark;
+    std::map<const double*, std::size_t> landmark_index;
     for (ResidualSpec& r : all) {
       if (r.frame == nullptr || !leaving.count(r.blocks[1])) continue;
       std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
       double res[2];
-      if (r.cost->Evaluate(params.data(), res, nullptr)) by_landmark[r.blocks[1]].push_back(&r);
+      if (!r.cost->Evaluate(params.data(), res, nullptr)) continue;
+      const auto [it, added] = landmark_index.emplace(r.blocks[1], by_landmark.size());
+      if (added) by_landmark.push_back({r.blocks[1], {}});
+      by_landmark[it->second].second.push_back(&r);
     }
-    // Scratch copies of the poses at their first estimates (FEJ), else their current values.
+    // Scratch copies of the keyframe blocks (poses; velocities and biases in the inertial mode)
+    // at their first estimates (FEJ), else their current values.
     std::map<double*, std::vector<double>> scratch;
-    auto scratch_of = [&](double* pose) {
-      auto it = scratch.find(pose);
+    std::map<double*, BlockKind> scratch_kind;
+    auto scratch_of = [&](double* block) {
+      auto it = scratch.find(block);
       if (it != scratch.end()) return it->second.data();
-      const auto fe_it = fe.find(pose);
+      const BlockKind kind = KindOf(block);
+      const auto fe_it = fe.find(block);
       std::vector<double> v = opt.first_estimate_jacobians && fe_it != fe.end()
                                   ? fe_it->second
-                                  : std::vector<double>(pose, pose + 7);
-      return scratch.emplace(pose, std::move(v)).first->second.data();
+                                  : std::vector<double>(block, block + AmbientSize(kind));
+      scratch_kind[block] = kind;
+      return scratch.emplace(block, std::move(v)).first->second.data();
     };
     std::map<const double*, double*> to_real;
     std::vector<std::unique_ptr<MarginalizationPrior>> landmark_priors;
@@ -964,8 +1016,14 @@ struct SlidingWindowEstimator::Impl {
       for (const MarginalizationBlock& b : p->KeptBlocks()) m.blocks.push_back(b.values);
       mres.push_back(std::move(m));
     }
+    // k0's pose prior; inertial: its state priors and the IMU (and zero-motion) factor to its
+    // successor, so that the successor's pose, velocity and bias keep what they said.
     std::vector<ResidualSpec> own;
     AppendFrameResiduals(f0, false, false, &own);
+    if (opt.inertial) {
+      AppendInertialResiduals(0, &own);
+      AppendInertialResiduals(1, &own);
+    }
     if (prior) {
       ResidualSpec r;
       r.cost.reset(prior->CreateCostFunction());
@@ -982,21 +1040,30 @@ struct SlidingWindowEstimator::Impl {
       mres.push_back(std::move(m));
     }
     std::vector<MarginalizationBlock> blocks;
-    for (auto& [real, values] : scratch) blocks.push_back({values.data(), 7, &pose_manifold});
+    for (const auto& f : keyframes) {  // oldest first (deterministic order)
+      for (double* real : {f->pose, f->v, f->bias}) {
+        if (!scratch.count(real)) continue;
+        const BlockKind kind = scratch_kind.at(real);
+        blocks.push_back({scratch.at(real).data(), AmbientSize(kind), ManifoldOf(kind)});
+      }
+    }
     std::unique_ptr<MarginalizationPrior> next;
     std::vector<double*> next_blocks;
-    // Only k0's pose touched (e.g. every leaving landmark was seen by k0 alone): nothing remains
-    // for a prior to constrain.
-    const double* f0_scratch = scratch.count(f0->pose) ? scratch.at(f0->pose).data() : nullptr;
+    // k0's blocks that a residual touches are removed. Only k0 touched (e.g. every leaving
+    // landmark was seen by k0 alone): nothing remains for a prior to constrain.
+    std::vector<double*> f0_scratch;
+    for (double* b : {f0->pose, f0->v, f0->bias})
+      if (scratch.count(b)) f0_scratch.push_back(scratch.at(b).data());
     const bool others =
         std::any_of(mres.begin(), mres.end(), [&](const MarginalizationResidual& m) {
-          return std::any_of(m.blocks.begin(), m.blocks.end(),
-                             [&](const double* b) { return b != f0_scratch; });
+          return std::any_of(m.blocks.begin(), m.blocks.end(), [&](double* b) {
+            return std::find(f0_scratch.begin(), f0_scratch.end(), b) == f0_scratch.end();
+          });
         });
-    if (f0_scratch != nullptr && others) {
+    if (!f0_scratch.empty() && others) {
       try {
-        next = std::make_unique<MarginalizationPrior>(MarginalizationPrior::Build(
-            blocks, mres, {scratch.at(f0->pose).data()}, opt.marginalization));
+        next = std::make_unique<MarginalizationPrior>(
+            MarginalizationPrior::Build(blocks, mres, f0_scratch, opt.marginalization));
         for (const MarginalizationBlock& b : next->KeptBlocks())
           next_blocks.push_back(to_real.at(b.values));
       } catch (const std::invalid_argument&) {
@@ -1005,12 +1072,37 @@ struct SlidingWindowEstimator::Impl {
       }
     }
     InstallPrior(std::move(next), next_blocks, result);
+    ConsumeTracks(retire_point, retire_line);
+    ConsumeTracks(retire_point, retire_line);
     keyframes.pop_front();
+    keyframes.front()->imu_from_previous.reset();
+    keyframes.front()->state_prior = false;
     for (int id : remove_points) points.erase(id);
     for (int id : remove_lines) lines.erase(id);
     result->marginalized_keyframes = 1;
     result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
     RemoveWeakLandmarks();
+  }
+
+  // The tracks whose landmark went into a poses-only prior with all its window observations:
+  // retired (never triangulated again), or with retire_marginalized_tracks = false those
+  // observations are marked used (outliers) so that the track can start a new landmark from
+  // later keyframes only (a revisited scene point of a features folder, whose ids are scene ids)
+  // without counting them twice.
+  void ConsumeTracks(const std::vector<int>& point_ids, const std::vector<int>& line_ids) {
+    if (opt.retire_marginalized_tracks) {
+      retired_points.insert(point_ids.begin(), point_ids.end());
+      retired_lines.insert(line_ids.begin(), line_ids.end());
+      return;
+    }
+    const std::set<int> pset(point_ids.begin(), point_ids.end());
+    const std::set<int> lset(line_ids.begin(), line_ids.end());
+    for (auto& f : keyframes) {
+      for (std::size_t i = 0; i < f->input.points.size(); ++i)
+        if (pset.count(f->input.points[i].point_id)) f->point_outlier[i] = 1;
+      for (std::size_t i = 0; i < f->input.segments.size(); ++i)
+        if (lset.count(f->input.segments[i].line_id)) f->segment_outlier[i] = 1;
+    }
   }
 
   // The new prior and its first estimates (none if empty).
@@ -1085,11 +1177,6 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
   if (!(options.point_sigma_px > 0.0) || !(options.line_sigma_px > 0.0) ||
       !(options.loss_scale > 0.0))
     throw std::invalid_argument("SlidingWindowEstimator: sigmas and loss scale must be positive");
-  // The poses-only prior eliminates pose blocks alone: it does not carry the velocity and bias
-  // blocks and the IMU factor of the marginalized keyframe.
-  if (options.inertial && options.prior_blocks == SlidingWindowOptions::PriorBlocks::kPoses)
-    throw std::invalid_argument(
-        "SlidingWindowEstimator: the poses-only prior is not available in inertial mode");
   impl_->K = K;
   impl_->opt = options;
   if (options.loss == LossKind::kHuber)
@@ -1260,9 +1347,11 @@ std::optional<Eigen::Matrix<double, 6, 6>> SlidingWindowEstimator::NewestPoseCov
   m.BuildProblem(&problem, false);
   double* pose = m.keyframes.back()->pose;
   if (!problem.HasParameterBlock(pose)) return std::nullopt;
+  // Inertial: the gauge (position and yaw) held on the oldest keyframe, its roll and pitch free.
+  RollPitchPoseManifold roll_pitch;
   if (m.opt.inertial && m.keyframes.size() > 1 &&
       problem.HasParameterBlock(m.keyframes.front()->pose)) {
-    problem.SetParameterBlockConstant(m.keyframes.front()->pose);
+    problem.SetManifold(m.keyframes.front()->pose, &roll_pitch);
   }
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;  // fails (nullopt) when the information is rank-deficient

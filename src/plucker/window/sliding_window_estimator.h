@@ -134,9 +134,16 @@ struct SlidingWindowOptions {
   // keyframe does not observe it) is marginalized with all its window observations, landmark by
   // landmark (a small Schur complement each), and retired (its track id is never triangulated
   // again); a landmark still tracked by the newest keyframe loses k0's observation. The prior
-  // lives on poses only (at most 6 x window_size), and the window solve stays sparse.
+  // lives on poses only (at most 6 x window_size), and the window solve stays sparse. Inertial
+  // mode: k0's pose, velocity and bias are eliminated with its state priors and its IMU factor
+  // to the successor, whose velocity and bias blocks join the prior (nothing inertial dropped).
   enum class PriorBlocks { kLandmarks, kPoses };
   PriorBlocks prior_blocks = PriorBlocks::kLandmarks;
+  // kPoses: a track whose landmark went into the prior is retired (true; image tracks end for
+  // good), or only its window observations are marked used, so that the same id can start a new
+  // landmark from later keyframes (false; features folders whose ids are scene ids, revisited:
+  // retiring them starved the 60 s room of points after 16 s).
+  bool retire_marginalized_tracks = true;
   // When motion-only tracking fails (too few inliers from the prediction, e.g. after a jump):
   // PnP RANSAC (OpenCV EPnP) of the frame's point tracks against the window's 3D points, then
   // tracking again from that pose.
@@ -263,7 +270,8 @@ class SlidingWindowEstimator {
   // Covariance of the newest keyframe's pose in its PoseManifold tangent (rotation, translation),
   // from the window's information at the current estimate (prior included). nullopt when it is
   // rank-deficient (no pose prior fixes the gauge) or not computable. Visual-inertial mode: of
-  // T_w_b, relative to the oldest keyframe (held; the gauge is position and yaw).
+  // T_w_b, with the gauge (position and yaw) held on the oldest keyframe, whose roll and pitch
+  // (observable through gravity) stay free.
   std::optional<Eigen::Matrix<double, 6, 6>> NewestPoseCovariance() const;
 
   // The keyframes' poses (oldest first) and the landmarks (for drawing and tests).
