@@ -48,4 +48,41 @@ bool PoseManifold::MinusJacobian(const double* x, double* jacobian) const {
   return true;
 }
 
+namespace {
+// R^T [e_x, e_y]: world x, y rotations in the body tangent (orthonormal columns).
+Eigen::Matrix<double, 3, 2> WorldRollPitchInBody(const double* x) {
+  return SE3d::FromParameters(x).RotationMatrix().transpose().leftCols<2>();
+}
+}  // namespace
+
+bool RollPitchPoseManifold::Plus(const double* x, const double* delta, double* x_plus_delta) const {
+  Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+  d.head<3>() = WorldRollPitchInBody(x) * Eigen::Map<const Eigen::Vector2d>(delta);
+  return pose_.Plus(x, d.data(), x_plus_delta);
+}
+
+bool RollPitchPoseManifold::PlusJacobian(const double* x, double* jacobian) const {
+  Eigen::Matrix<double, 7, 6, Eigen::RowMajor> J;
+  if (!pose_.PlusJacobian(x, J.data())) return false;
+  Eigen::Map<Eigen::Matrix<double, 7, 2, Eigen::RowMajor>> out(jacobian);
+  out = J.leftCols<3>() * WorldRollPitchInBody(x);
+  return true;
+}
+
+bool RollPitchPoseManifold::Minus(const double* y, const double* x, double* y_minus_x) const {
+  Eigen::Matrix<double, 6, 1> d;
+  if (!pose_.Minus(y, x, d.data())) return false;
+  Eigen::Map<Eigen::Vector2d> out(y_minus_x);
+  out = WorldRollPitchInBody(x).transpose() * d.head<3>();
+  return true;
+}
+
+bool RollPitchPoseManifold::MinusJacobian(const double* x, double* jacobian) const {
+  Eigen::Matrix<double, 6, 7, Eigen::RowMajor> J;
+  if (!pose_.MinusJacobian(x, J.data())) return false;
+  Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> out(jacobian);
+  out = WorldRollPitchInBody(x).transpose() * J.topRows<3>();
+  return true;
+}
+
 }  // namespace plucker

@@ -33,6 +33,40 @@ TEST(PoseManifold, InvariantsHoldOnRandomAndHardPoints) {
   }
 }
 
+// Ceres' invariants on the 2-dimensional sub-manifold: y is a point of it (Plus of x), as
+// Minus(y, x) inverts Plus only there; Plus keeps the position, and yaw is no tangent direction.
+TEST(RollPitchPoseManifold, InvariantsHoldAndPositionAndYawStay) {
+  RollPitchPoseManifold manifold;
+  verify::Rng rng(12);
+  int checked = 0;
+  for (int i = 0; i < 200; ++i) {
+    SE3d x = verify::RandomPose(rng);
+    if (i == 0) x = SE3d();
+    if (i == 1) x = SE3d(verify::RotationNearPi(rng, 0.0), Eigen::Vector3d(1, 2, 3));
+    double xp[7], yp[7];
+    x.ToParameters(xp);
+    Eigen::Vector2d delta = verify::RandomVector(rng).head<2>(), to_y = delta.reverse() * 0.5;
+    if (i == 2) delta.setZero();
+    ASSERT_TRUE(manifold.Plus(xp, to_y.data(), yp));
+    using namespace ceres;  // the macro names ceres' helpers unqualified
+    const Vector xv = Eigen::Map<const Vector>(xp, 7), yv = Eigen::Map<const Vector>(yp, 7);
+    const Vector dv = delta;
+    EXPECT_THAT_MANIFOLD_INVARIANTS_HOLD(manifold, xv, dv, yv, 1e-9);
+    // Plus keeps the position; a change of yaw alone (a world z rotation) is no tangent
+    // direction: Minus sees none of it.
+    EXPECT_LT((SE3d::FromParameters(yp).translation() - x.translation()).norm(), 1e-12);
+    const SE3d yawed(
+        Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ())) * x.rotation(),
+        x.translation());
+    double zp[7], z_minus_x[2];
+    yawed.ToParameters(zp);
+    ASSERT_TRUE(manifold.Minus(zp, xp, z_minus_x));
+    EXPECT_LT(Eigen::Map<Eigen::Vector2d>(z_minus_x).norm(), 1e-12);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 200);
+}
+
 TEST(PoseManifold, RejectsNonFiniteInput) {
   PoseManifold manifold;
   double x[7] = {0, 0, 0, 1, 0, 0, std::nan("")};

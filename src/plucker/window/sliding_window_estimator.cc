@@ -123,49 +123,6 @@ class HeldExtrinsicCost final : public ceres::SizedCostFunction<2, 7, kN> {
   double T_b_c_[7];
 };
 
-// A pose whose position and yaw are held: the tangent is the rotation about the world x and y
-// axes (R <- Exp([a, b, 0]) R, i.e. dtheta = R^T [a, b, 0] in the PoseManifold tangent). The
-// gauge of the visual-inertial window (position and yaw) fixed on one pose, its roll and pitch
-// (observable through gravity) left free: the covariance of another pose relative to it.
-class RollPitchPoseManifold final : public ceres::Manifold {
- public:
-  int AmbientSize() const override { return 7; }
-  int TangentSize() const override { return 2; }
-  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
-    Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
-    d.head<3>() = Lift(x) * Eigen::Map<const Eigen::Vector2d>(delta);
-    return pose_.Plus(x, d.data(), x_plus_delta);
-  }
-  bool PlusJacobian(const double* x, double* jacobian) const override {
-    Eigen::Matrix<double, 7, 6, Eigen::RowMajor> J;
-    if (!pose_.PlusJacobian(x, J.data())) return false;
-    Eigen::Map<Eigen::Matrix<double, 7, 2, Eigen::RowMajor>> out(jacobian);
-    out = J.leftCols<3>() * Lift(x);
-    return true;
-  }
-  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
-    Eigen::Matrix<double, 6, 1> d;
-    if (!pose_.Minus(y, x, d.data())) return false;
-    Eigen::Map<Eigen::Vector2d> out(y_minus_x);
-    out = Lift(x).transpose() * d.head<3>();
-    return true;
-  }
-  bool MinusJacobian(const double* x, double* jacobian) const override {
-    Eigen::Matrix<double, 6, 7, Eigen::RowMajor> J;
-    if (!pose_.MinusJacobian(x, J.data())) return false;
-    Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> out(jacobian);
-    out = Lift(x).transpose() * J.topRows<3>();
-    return true;
-  }
-
- private:
-  // R^T [e_x, e_y]: world x, y rotations in the body tangent (orthonormal columns).
-  static Eigen::Matrix<double, 3, 2> Lift(const double* x) {
-    return SE3d::FromParameters(x).RotationMatrix().transpose().leftCols<2>();
-  }
-  PoseManifold pose_;
-};
-
 enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias };
 
 struct Frame {
