@@ -36,6 +36,7 @@
 #include "plucker/io/trajectory_io.h"
 #include "plucker/window/sliding_window_estimator.h"
 #include "plucker/window/two_view_initialization.h"
+#include "run_guarded.h"
 #include "stage_clock.h"
 #include "vio_input.h"
 
@@ -636,7 +637,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
                             ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, stride, window]() {
-    try {
+    RunGuarded("vio", exit_code, [&] {
       if (args->features.empty() == args->euroc.empty()) {
         throw std::invalid_argument("give --features DIR or --euroc DIR");
       }
@@ -644,11 +645,8 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       if (!args->config.empty()) ApplyConfig(args->config, &args->cfg);
       if (stride->count() > 0) args->cfg.point_stride = args->point_stride;
       if (window->count() > 0) args->cfg.window = args->window;
-      *exit_code = Run(*args);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker vio: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
+      return Run(*args);
+    });
   });
 }
 
