@@ -66,14 +66,9 @@ int VoxelMap::AddPoints(const std::vector<Eigen::Vector3d>& points_w) {
     if (voxel.count >= capacity_) continue;
     Eigen::Vector3f* stored = SlotPoints(voxel.slot);
     const Eigen::Vector3f pf = p.cast<float>();
-    bool close = false;
-    for (std::uint32_t i = 0; i < voxel.count; ++i) {
-      if ((stored[i] - pf).squaredNorm() < min_sq) {
-        close = true;
-        break;
-      }
-    }
-    if (close) continue;
+    std::uint32_t i = 0;
+    while (i < voxel.count && (stored[i] - pf).squaredNorm() >= min_sq) ++i;
+    if (i < voxel.count) continue;  // closer than min_point_distance to a stored point
     stored[voxel.count++] = pf;
     ++num_points_;
     ++added;
