@@ -25,6 +25,7 @@
 #include "plucker/lidar/odometry.h"
 #include "plucker/lidar/voxel_map.h"
 #include "plucker/sensor/lidar_model.h"
+#include "run_guarded.h"
 #include "stage_clock.h"
 
 namespace plucker {
@@ -308,14 +309,8 @@ void RegisterLidar(CLI::App& app, int* exit_code) {
   cmd->add_option("--threads", args->threads,
                   "Threads for correspondences and the solver (default 1); with more than one, "
                   "timings are wall-clock");
-  cmd->callback([args, exit_code]() {
-    try {
-      *exit_code = RunLidar(*args);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker lidar: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback(
+      [args, exit_code]() { RunGuarded("lidar", exit_code, [&] { return RunLidar(*args); }); });
 }
 
 }  // namespace app
