@@ -157,6 +157,46 @@ TEST(IncrementalReconstruction, ABadViewStaysUnregisteredAndTheBudgetHolds) {
   EXPECT_LT(e.max_centre, 0.02);
 }
 
+// The random point subset is a function of the seed alone (the same with and without lines),
+// differs from the longest tracks, and the matching threads do not change the result.
+TEST(IncrementalReconstruction, SeededPointSubsetAndThreadsAreRepeatable) {
+  std::mt19937 rng(13);
+  const Scene s = MakeScene(5, 300, 30, &rng);
+  std::vector<ViewFeatures> views;
+  for (int v = 0; v < 5; ++v) views.push_back(Render(s, v, 0.3, &rng));
+  const auto first_observations = [](const SfmResult& r) {
+    std::vector<std::pair<int, int>> first;
+    for (const SfmPoint& p : r.points) first.push_back(p.observations.front());
+    std::sort(first.begin(), first.end());
+    return first;
+  };
+  SfmOptions options;
+  options.max_points = 60;
+  options.point_subset_seed = 7;
+  const SfmResult with_lines = Reconstruct(s.K, views, options);
+  options.num_threads = 2;
+  const SfmResult threaded = Reconstruct(s.K, views, options);
+  options.use_lines = false;
+  const SfmResult points_only = Reconstruct(s.K, views, options);
+  options.point_subset_seed = 0;
+  const SfmResult longest = Reconstruct(s.K, views, options);
+  for (const SfmResult* r : {&with_lines, &threaded, &points_only, &longest}) {
+    ASSERT_TRUE(r->ok) << r->message;
+    EXPECT_EQ(r->stats.registered, 5);
+    EXPECT_LE(r->stats.points, 60);
+    EXPECT_GT(r->stats.points, 40);
+  }
+  EXPECT_GT(with_lines.stats.lines, 0);
+  EXPECT_EQ(first_observations(with_lines), first_observations(points_only));
+  EXPECT_NE(first_observations(points_only), first_observations(longest));
+  ASSERT_EQ(with_lines.points.size(), threaded.points.size());
+  ASSERT_EQ(with_lines.lines.size(), threaded.lines.size());
+  for (int v = 0; v < 5; ++v) {
+    ASSERT_TRUE(with_lines.T_w_c[v] && threaded.T_w_c[v]);
+    EXPECT_EQ(with_lines.T_w_c[v]->Matrix(), threaded.T_w_c[v]->Matrix()) << "view " << v;
+  }
+}
+
 TEST(IncrementalReconstruction, FailsCleanlyWithoutMatches) {
   std::mt19937 rng(9);
   const Scene s = MakeScene(3, 200, 0, &rng);
