@@ -477,6 +477,7 @@ class Reconstruction {
     if (o_.use_lines) {
       Announce(SfmStage::kLines);
       MatchLines(v);
+      CheckNewLineObservations(v);
     }
     RefinePose(v, o_.use_lines && num_inliers < o_.scarce_points);
     Announce(SfmStage::kTriangulation);
@@ -584,6 +585,27 @@ class Reconstruction {
     });
     for (std::size_t k = 0; k < others.size(); ++k)
       for (const vision::LineMatch& lm : matches[k].matches) Join({others[k], lm.a}, {v, lm.b});
+  }
+
+  // The segments of view v just joined to tracks whose 3D line exists are checked against it
+  // with the PnP pose: one further than max_reprojection_px is an outlier before it can enter the
+  // pose refinement or the adjustment. Descriptor and epipolar gates cannot verify a match along
+  // the epipolar direction, and where points are scarce a few wrong line matches would otherwise
+  // pull the new pose (a 1.4 deg error on fountain-P11 with 385 points).
+  void CheckNewLineObservations(int v) {
+    for (LineTrack& t : line_tracks_) {
+      if (!t.has_line) continue;
+      for (std::size_t i = 0; i < t.obs.size(); ++i) {
+        if (t.obs[i].first != v || t.outlier[i]) continue;
+        const vision::Segment2d& seg = views_[v].lines.segments[t.obs[i].second];
+        const auto err =
+            LineReprojectionErrors(K_, {{*pose_[v], seg.head<2>(), seg.tail<2>()}}, t.L_w);
+        if (!err || err->cwiseAbs().maxCoeff() > o_.max_reprojection_px) {
+          t.outlier[i] = 1;
+          ++rejected_lines_;
+        }
+      }
+    }
   }
 
   bool TrackHasView(int t, int view) const {
