@@ -44,7 +44,7 @@ struct SfmArgs {
   int detect_size = 1536;
   int max_keypoints = 8000;
   int overlays = 3;
-  double line_sigma = 1.5;
+  double line_sigma = 2.0;
   int point_seed = 0;
   int threads = 0;
   bool quiet = false;
