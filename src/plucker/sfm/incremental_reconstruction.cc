@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -179,7 +182,7 @@ std::vector<std::pair<int, int>> MatchDescriptors(const cv::Mat& a, cv::flann::I
 }
 
 // fn(0) ... fn(n - 1) on up to `threads` threads (the calling one included); fn must only
-// write to its own outputs.
+// write to its own outputs. The first exception thrown by fn is rethrown on the calling thread.
 void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
   const int workers = std::min(std::max(1, threads), n);
   if (workers <= 1) {
@@ -187,13 +190,23 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
     return;
   }
   std::atomic<int> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
   const auto work = [&]() {
-    for (int i = next++; i < n; i = next++) fn(i);
+    for (int i = next++; i < n; i = next++) {
+      try {
+        fn(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < workers; ++t) pool.emplace_back(work);
   work();
   for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
 }
 
 double Median(std::vector<double> v) {
