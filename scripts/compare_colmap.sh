@@ -16,7 +16,7 @@ P="${1:-build/release/apps/plucker/plucker}"
 D="${2:-../shared/data/strecha-fountain-p11}"
 O="${3:-out/compare_sfm}"
 BUDGET="${4:-770}"
-SEEDS="${5:-0 1 2 3 4 5}"
+SEEDS="${5-0 1 2 3 4 5}"  # an empty argument: no budget runs
 mkdir -p "$O"
 row() {  # name wall cpu load eval-json
   python3 - "$@" <<'PY'
