@@ -357,6 +357,10 @@ printf '100 0 40\n0 x 30\n0 0 1\n' > "$T/sfm_K_bad.txt"
 printf '0 0 40\n0 100 30\n0 0 1\n' > "$T/sfm_K_zero.txt"
 echo keep > "$T/sfm_user/notes.txt"
 expect sfm-help 0 "--max-points" -- "$PLUCKER" sfm --help
+expect sfm-help-point-seed 0 "--point-seed" -- "$PLUCKER" sfm --help
+expect sfm-negative-point-seed nonzero "point-seed" -- \
+  "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out" \
+  --point-seed -1
 expect sfm-missing-folder nonzero "$T/nothing" -- \
   "$PLUCKER" sfm --images "$T/nothing" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out"
 expect sfm-no-images nonzero "sfm_none" -- \

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -43,7 +44,9 @@ struct SfmArgs {
   int detect_size = 1536;
   int max_keypoints = 8000;
   int overlays = 3;
-  double line_sigma = 1.5;
+  double line_sigma = 2.0;
+  int point_seed = 0;
+  int threads = 0;
   bool quiet = false;
 };
 
@@ -217,6 +220,10 @@ int Run(const SfmArgs& a) {
   so.use_lines = !a.no_lines;
   so.max_points = a.max_points;
   so.line_sigma_px = a.line_sigma;
+  so.point_subset_seed = a.point_seed;
+  so.num_threads = a.threads > 0
+                       ? a.threads
+                       : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   BasicStageClock<sfm::SfmStage, sfm::kNumSfmStages> clock(/*wall=*/true);
   const sfm::SfmResult r = sfm::Reconstruct(K, views, so, clock.Observer(), say);
   if (!r.ok) throw io::IoError(a.images, "reconstruction failed: " + r.message);
@@ -268,6 +275,7 @@ int Run(const SfmArgs& a) {
                                  {"images", a.images},
                                  {"lines", !a.no_lines},
                                  {"max_points", a.max_points},
+                                 {"point_seed", a.point_seed},
                                  {"detect_size", a.detect_size},
                                  {"line_sigma_px", a.line_sigma},
                                  {"views", st.views},
@@ -323,6 +331,15 @@ void RegisterSfm(CLI::App& app, int* exit_code) {
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->add_flag("--no-lines", a->no_lines, "Points only");
   cmd->add_option("--max-points", a->max_points, "Use at most N point tracks (0: all)")
+      ->capture_default_str();
+  cmd->add_option("--point-seed", a->point_seed,
+                  "With --max-points: keep a random subset of the point tracks drawn with this "
+                  "seed (> 0; the same subset with or without lines) instead of the longest")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--threads", a->threads,
+                  "Threads for the matching (0: every core; the result does not depend on it)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--detect-size", a->detect_size,
                   "SIFT runs on images reduced to this longer side [px] (0: full size)")

@@ -157,6 +157,92 @@ TEST(IncrementalReconstruction, ABadViewStaysUnregisteredAndTheBudgetHolds) {
   EXPECT_LT(e.max_centre, 0.02);
 }
 
+// The random point subset is a function of the seed alone (the same with and without lines),
+// differs from the longest tracks, and the matching threads do not change the result.
+TEST(IncrementalReconstruction, SeededPointSubsetAndThreadsAreRepeatable) {
+  std::mt19937 rng(13);
+  const Scene s = MakeScene(5, 300, 30, &rng);
+  std::vector<ViewFeatures> views;
+  for (int v = 0; v < 5; ++v) views.push_back(Render(s, v, 0.3, &rng));
+  const auto first_observations = [](const SfmResult& r) {
+    std::vector<std::pair<int, int>> first;
+    for (const SfmPoint& p : r.points) first.push_back(p.observations.front());
+    std::sort(first.begin(), first.end());
+    return first;
+  };
+  SfmOptions options;
+  options.max_points = 60;
+  options.point_subset_seed = 7;
+  const SfmResult with_lines = Reconstruct(s.K, views, options);
+  options.num_threads = 2;
+  const SfmResult threaded = Reconstruct(s.K, views, options);
+  options.use_lines = false;
+  const SfmResult points_only = Reconstruct(s.K, views, options);
+  options.point_subset_seed = 0;
+  const SfmResult longest = Reconstruct(s.K, views, options);
+  for (const SfmResult* r : {&with_lines, &threaded, &points_only, &longest}) {
+    ASSERT_TRUE(r->ok) << r->message;
+    EXPECT_EQ(r->stats.registered, 5);
+    EXPECT_LE(r->stats.points, 60);
+    EXPECT_GT(r->stats.points, 40);
+  }
+  EXPECT_GT(with_lines.stats.lines, 0);
+  EXPECT_EQ(first_observations(with_lines), first_observations(points_only));
+  EXPECT_NE(first_observations(points_only), first_observations(longest));
+  ASSERT_EQ(with_lines.points.size(), threaded.points.size());
+  ASSERT_EQ(with_lines.lines.size(), threaded.lines.size());
+  for (int v = 0; v < 5; ++v) {
+    ASSERT_TRUE(with_lines.T_w_c[v] && threaded.T_w_c[v]);
+    EXPECT_EQ(with_lines.T_w_c[v]->Matrix(), threaded.T_w_c[v]->Matrix()) << "view " << v;
+  }
+}
+
+// Where points are scarce a view's pose is refined with the lines too. Half of the segments of
+// one view are moved 6 px across their line (descriptors intact, so they match): those
+// observations must be rejected before they can pull the pose, and none reaches the result.
+TEST(IncrementalReconstruction, ShiftedSegmentsOfANewViewDoNotEnter) {
+  std::mt19937 rng(17);
+  const Scene s = MakeScene(6, 300, 60, &rng);
+  std::vector<ViewFeatures> views;
+  for (int v = 0; v < 6; ++v) views.push_back(Render(s, v, 0.2, &rng));
+  constexpr int kShifted = 5;
+  std::vector<char> moved(views[kShifted].lines.size(), 0);
+  for (int i = 0; i < views[kShifted].lines.size(); i += 2) {
+    vision::Segment2d& seg = views[kShifted].lines.segments[i];
+    const Eigen::Vector2d d = (seg.tail<2>() - seg.head<2>()).normalized();
+    const Eigen::Vector2d n(-d.y(), d.x());
+    seg.head<2>() += 6.0 * n;
+    seg.tail<2>() += 6.0 * n;
+    moved[i] = 1;
+  }
+  SfmOptions options;
+  options.max_points = 50;
+  options.point_subset_seed = 3;
+  const SfmResult r = Reconstruct(s.K, views, options);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.stats.registered, 6);
+  EXPECT_GT(r.stats.lines, 30);
+  EXPECT_GT(r.stats.line_refined_registrations, 0);
+  int kept_shifted = 0, kept_unshifted = 0;
+  for (const SfmLine& l : r.lines) {
+    for (const auto& [v, i] : l.observations) {
+      if (v != kShifted) continue;
+      (moved[i] ? kept_shifted : kept_unshifted) += 1;
+    }
+  }
+  const eval::CameraSetErrors e = Compare(r.T_w_c, s.T_w_c);
+  std::printf(
+      "shifted segments: %d lines, kept %d shifted and %d other observations of view %d, "
+      "max centre error %.2e, max rotation %.4f deg, %d line-refined registrations, %d "
+      "rejected line observations\n",
+      r.stats.lines, kept_shifted, kept_unshifted, kShifted, e.max_centre, e.max_rotation_deg,
+      r.stats.line_refined_registrations, r.stats.rejected_line_observations);
+  EXPECT_EQ(kept_shifted, 0);
+  EXPECT_GT(kept_unshifted, 10);
+  EXPECT_LT(e.max_centre, 0.01);       // of an 8-unit radius (50 points: 3e-3 here)
+  EXPECT_LT(e.max_rotation_deg, 0.1);  // 0.053 deg here
+}
+
 TEST(IncrementalReconstruction, FailsCleanlyWithoutMatches) {
   std::mt19937 rng(9);
   const Scene s = MakeScene(3, 200, 0, &rng);

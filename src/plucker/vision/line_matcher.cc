@@ -108,25 +108,89 @@ bool MedianLineDistanceWithin(const std::vector<Eigen::Vector2d>& points, const 
   return false;
 }
 
-Gate GatePair(const Segment2d& a, const Segment2d& b, const LineMatcherOptions& o,
-              const std::optional<Eigen::Matrix3d>& F,
-              const std::vector<Eigen::Vector2d>* predicted, double* overlap) {
-  const Eigen::Vector2d da = End(a) - Start(a), db = End(b) - Start(b);
-  const double la = da.norm(), lb = db.norm();
-  const double angle = std::atan2(std::abs(da.x() * db.y() - da.y() * db.x()), da.dot(db));
-  if (!(angle <= o.max_angle_deg * M_PI / 180.0)) return Gate::kAngle;
-  if (!(std::max(la, lb) <= o.max_length_ratio * std::min(la, lb))) return Gate::kLength;
-  if (o.max_midpoint_distance_px > 0.0 &&
-      !((0.5 * (Start(a) + End(a) - Start(b) - End(b))).norm() <= o.max_midpoint_distance_px)) {
-    return Gate::kDistance;
+// Per-segment quantities the gates reuse for every pair.
+struct SegmentGeometry {
+  Eigen::Vector2d start, end, delta, mid;
+  double length = 0.0;
+};
+
+SegmentGeometry Geometry(const Segment2d& s) {
+  SegmentGeometry g;
+  g.start = Start(s);
+  g.end = End(s);
+  g.delta = g.end - g.start;
+  g.mid = 0.5 * (g.start + g.end);
+  g.length = g.delta.norm();
+  return g;
+}
+
+// The epipolar lines in b of a segment's endpoints (F_b_a x_a for each).
+struct EpipolarLines {
+  Eigen::Vector3d start, end;
+};
+
+std::optional<double> OverlapOfEpipolarLines(const EpipolarLines& l, const SegmentGeometry& b,
+                                             double min_sin) {
+  if (!(b.length > 0) || !l.start.allFinite() || !l.end.allFinite()) return std::nullopt;
+  const Eigen::Vector3d bs = b.start.homogeneous();
+  double t[2];
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector3d& e = k == 0 ? l.start : l.end;
+    const double along = e.head<2>().dot(b.delta);  // |l_xy| |delta| sin(angle(b, l))
+    if (!(std::abs(along) > min_sin * e.head<2>().norm() * b.length)) return std::nullopt;
+    t[k] = -e.dot(bs) / along;
   }
+  const double lo = std::min(t[0], t[1]), hi = std::max(t[0], t[1]);
+  const double shorter = std::min(hi - lo, 1.0);
+  if (!(shorter > 1e-6) || !std::isfinite(hi)) return std::nullopt;
+  const double overlap = std::max(0.0, std::min(hi, 1.0) - std::max(lo, 0.0));
+  return std::min(1.0, overlap / shorter);
+}
+
+struct GateConstants {
+  double tan_max_angle = 0.0;      // tan(max_angle_deg) (max_angle_deg < 90)
+  bool any_angle = false;          // max_angle_deg >= 180: no angle gate
+  bool up_to_right_angle = false;  // 90 <= max_angle_deg < 180: cos gate
+  double cos_max_angle = 0.0;
+  double min_sin_epipolar = 0.0;
+};
+
+GateConstants Constants(const LineMatcherOptions& o) {
+  GateConstants c;
+  const double a = o.max_angle_deg * M_PI / 180.0;
+  c.any_angle = !(a < M_PI);
+  c.up_to_right_angle = !(a < 0.5 * M_PI);
+  c.tan_max_angle = std::tan(a);
+  c.cos_max_angle = std::cos(a);
+  c.min_sin_epipolar = std::sin(o.min_epipolar_angle_deg * M_PI / 180.0);
+  return c;
+}
+
+// The oriented angle between da and db is at most the maximum (atan2(|cross|, dot) <= max,
+// without the atan2).
+bool AngleWithin(const SegmentGeometry& a, const SegmentGeometry& b, const GateConstants& c) {
+  if (c.any_angle) return true;
+  const double cross = std::abs(a.delta.x() * b.delta.y() - a.delta.y() * b.delta.x());
+  const double dot = a.delta.dot(b.delta);
+  if (c.up_to_right_angle) return dot >= c.cos_max_angle * a.length * b.length;
+  return dot > 0.0 && cross <= c.tan_max_angle * dot;
+}
+
+Gate GatePair(const SegmentGeometry& a, const SegmentGeometry& b, const LineMatcherOptions& o,
+              const GateConstants& c, const EpipolarLines* epipolar, const Segment2d& b_segment,
+              const std::vector<Eigen::Vector2d>* predicted, double* overlap) {
+  if (!AngleWithin(a, b, c)) return Gate::kAngle;
+  if (!(std::max(a.length, b.length) <= o.max_length_ratio * std::min(a.length, b.length)))
+    return Gate::kLength;
+  if (o.max_midpoint_distance_px > 0.0 && !((a.mid - b.mid).norm() <= o.max_midpoint_distance_px))
+    return Gate::kDistance;
   if (predicted && !predicted->empty() &&
-      !MedianLineDistanceWithin(*predicted, b, o.max_prediction_distance_px)) {
+      !MedianLineDistanceWithin(*predicted, b_segment, o.max_prediction_distance_px)) {
     return Gate::kPrediction;
   }
   *overlap = -1.0;
-  if (F) {
-    const auto ov = EpipolarOverlap(a, b, *F, o.min_epipolar_angle_deg);
+  if (epipolar) {
+    const auto ov = OverlapOfEpipolarLines(*epipolar, b, c.min_sin_epipolar);
     if (ov) {
       *overlap = *ov;
       if (!(*ov >= o.min_epipolar_overlap)) return Gate::kEpipolar;
@@ -198,23 +262,9 @@ int HammingDistance(const cv::Mat& da, int ra, const cv::Mat& db, int rb) {
 
 std::optional<double> EpipolarOverlap(const Segment2d& a, const Segment2d& b,
                                       const Eigen::Matrix3d& F_b_a, double min_angle_deg) {
-  const Eigen::Vector3d bs = Start(b).homogeneous();
-  const Eigen::Vector2d delta = End(b) - Start(b);
-  const double lb = delta.norm();
-  if (!(lb > 0) || !F_b_a.allFinite()) return std::nullopt;
-  const double min_sin = std::sin(min_angle_deg * M_PI / 180.0);
-  double t[2];
-  for (int k = 0; k < 2; ++k) {
-    const Eigen::Vector3d l = F_b_a * (k == 0 ? Start(a) : End(a)).homogeneous();
-    const double along = l.head<2>().dot(delta);  // |l_xy| |delta| sin(angle(b, l))
-    if (!(std::abs(along) > min_sin * l.head<2>().norm() * lb)) return std::nullopt;
-    t[k] = -l.dot(bs) / along;
-  }
-  const double lo = std::min(t[0], t[1]), hi = std::max(t[0], t[1]);
-  const double shorter = std::min(hi - lo, 1.0);
-  if (!(shorter > 1e-6) || !std::isfinite(hi)) return std::nullopt;
-  const double overlap = std::max(0.0, std::min(hi, 1.0) - std::max(lo, 0.0));
-  return std::min(1.0, overlap / shorter);
+  if (!F_b_a.allFinite()) return std::nullopt;
+  const EpipolarLines l{F_b_a * Start(a).homogeneous(), F_b_a * End(a).homogeneous()};
+  return OverlapOfEpipolarLines(l, Geometry(b), std::sin(min_angle_deg * M_PI / 180.0));
 }
 
 LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
@@ -235,11 +285,21 @@ LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
   // Distances of the gated pairs (-1: gated out) and their epipolar overlaps.
   std::vector<int> dist(static_cast<std::size_t>(st.pairs), -1);
   std::vector<double> overlaps(dist.size(), -1.0);
+  const GateConstants constants = Constants(o);
+  std::vector<SegmentGeometry> geometry_b(st.b);
+  for (int j = 0; j < st.b; ++j) geometry_b[j] = Geometry(b.segments[j]);
+  const bool use_f = F_b_a.has_value() && F_b_a->allFinite();
   for (int i = 0; i < st.a; ++i) {
+    const SegmentGeometry geometry_a = Geometry(a.segments[i]);
+    EpipolarLines epipolar;
+    if (use_f) {
+      epipolar.start = *F_b_a * geometry_a.start.homogeneous();
+      epipolar.end = *F_b_a * geometry_a.end.homogeneous();
+    }
     for (int j = 0; j < st.b; ++j) {
       double overlap = -1.0;
-      switch (GatePair(a.segments[i], b.segments[j], o, F_b_a,
-                       predicted ? &(*predicted)[i] : nullptr, &overlap)) {
+      switch (GatePair(geometry_a, geometry_b[j], o, constants, use_f ? &epipolar : nullptr,
+                       b.segments[j], predicted ? &(*predicted)[i] : nullptr, &overlap)) {
         case Gate::kAngle:
           ++st.rejected_angle;
           continue;

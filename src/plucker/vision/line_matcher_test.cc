@@ -224,6 +224,31 @@ TEST(LineMatcher, FundamentalFromPointTracks) {
   EXPECT_FALSE(FundamentalFromPointTracks(pa, pb, K).has_value());  // too few common tracks
 }
 
+// The angle gate (no atan2) accepts exactly the pairs whose oriented direction change
+// atan2(|a x b|, a . b) is within max_angle_deg, for gates below and above 90 deg.
+TEST(LineMatcher, AngleGateIsTheOrientedAngle) {
+  LineFeatures a, b;
+  a.segments = {Segment2d(0, 0, 100, 0)};
+  a.descriptors = cv::Mat::zeros(1, 32, CV_8UC1);
+  b.descriptors = cv::Mat::zeros(1, 32, CV_8UC1);
+  LineMatcherOptions o;
+  o.max_midpoint_distance_px = 0.0;
+  int checked = 0;
+  for (const double max_angle : {12.0, 30.0, 90.0, 120.0}) {
+    o.max_angle_deg = max_angle;
+    for (double deg = -179.75; deg < 180.0; deg += 0.5) {
+      const double r = deg * M_PI / 180.0;
+      b.segments = {Segment2d(10, 5, 10 + 80 * std::cos(r), 5 + 80 * std::sin(r))};
+      const LineMatchResult m = MatchLines(a, b, o);
+      const bool within = std::abs(deg) <= max_angle;
+      EXPECT_EQ(m.stats.rejected_angle, within ? 0 : 1) << deg << " deg, gate " << max_angle;
+      EXPECT_EQ(m.stats.matches, within ? 1 : 0) << deg << " deg, gate " << max_angle;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 4 * 720);
+}
+
 }  // namespace
 }  // namespace vision
 }  // namespace plucker
