@@ -29,6 +29,7 @@
 #include "plucker/io/trajectory_io.h"
 #include "plucker/sfm/incremental_reconstruction.h"
 #include "plucker/vision/undistort.h"
+#include "run_guarded.h"
 #include "stage_clock.h"
 
 namespace plucker {
@@ -353,14 +354,7 @@ void RegisterSfm(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--overlays", a->overlays, "Overlay images to write")->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "No progress lines and no closing table");
-  cmd->callback([a, exit_code]() {
-    try {
-      *exit_code = Run(*a);
-    } catch (const std::exception& e) {
-      std::cerr << "plucker sfm: error: " << e.what() << "\n";
-      *exit_code = 1;
-    }
-  });
+  cmd->callback([a, exit_code]() { RunGuarded("sfm", exit_code, [&] { return Run(*a); }); });
 }
 
 }  // namespace app
