@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/random_geometry.h"
@@ -211,6 +212,41 @@ TEST(PointReprojectionFactorVI, RecoversBodyPoseWithConstantExtrinsic) {
   const Vector6d err = SE3d::FromParameters(x_wb).Minus(T_w_b_gt);
   EXPECT_LT(err.norm(), 1e-8) << summary.BriefReport();
   EXPECT_EQ(SE3d::FromParameters(x_bc).Minus(T_b_c).norm(), 0.0);
+}
+
+// The window's adaptor with the extrinsic held: the VI factor's residual and its T_w_b and point
+// Jacobians, exactly, on random configurations.
+TEST(HeldExtrinsicFactor, EqualsTheVisualInertialFactorWithoutTheExtrinsicBlock) {
+  verify::Rng rng(9);
+  const PinholeIntrinsics K = TestCamera();
+  int checked = 0;
+  for (int i = 0; i < 50; ++i) {
+    const SE3d T_w_b = verify::RandomPose(rng), T_b_c = verify::RandomPose(rng, 0.2);
+    const Vector3d p_w =
+        T_w_b * (T_b_c * Vector3d(verify::Uniform(rng, -2, 2), verify::Uniform(rng, -2, 2),
+                                  verify::Uniform(rng, 1, 10)));
+    const Vector2d uv(verify::Uniform(rng, 0, 640), verify::Uniform(rng, 0, 480));
+    const CostPtr vi(PointReprojectionFactorVI::Create(K, uv, Eigen::Matrix2d::Identity()));
+    const HeldExtrinsicFactor<3> held(
+        PointReprojectionFactorVI::Create(K, uv, Eigen::Matrix2d::Identity()), T_b_c);
+    double x_wb[7], x_bc[7];
+    T_w_b.ToParameters(x_wb);
+    T_b_c.ToParameters(x_bc);
+    const double* p_vi[] = {x_wb, x_bc, p_w.data()};
+    const double* p_held[] = {x_wb, p_w.data()};
+    double r_vi[2], r_held[2], J_wb[14], J_bc[14], J_p[6], H_wb[14], H_p[6];
+    double* j_vi[] = {J_wb, J_bc, J_p};
+    double* j_held[] = {H_wb, H_p};
+    ASSERT_TRUE(vi->Evaluate(p_vi, r_vi, j_vi));
+    ASSERT_TRUE(held.Evaluate(p_held, r_held, j_held));
+    for (int k = 0; k < 2; ++k) EXPECT_EQ(r_vi[k], r_held[k]);
+    for (int k = 0; k < 14; ++k) EXPECT_EQ(J_wb[k], H_wb[k]);
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(J_p[k], H_p[k]);
+    ASSERT_TRUE(held.Evaluate(p_held, r_held, nullptr));  // residual only
+    EXPECT_EQ(r_vi[0], r_held[0]);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 50);
 }
 
 }  // namespace

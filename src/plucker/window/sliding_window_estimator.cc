@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/imu_factor.h"
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/point_reprojection_factor.h"
@@ -101,26 +102,6 @@ struct ZeroMotionResidual {
     r.template tail<3>() = Eigen::Map<const Eigen::Matrix<T, 3, 1>>(v_j) / T(sigma_v);
     return true;
   }
-};
-
-// A visual-inertial factor (2 | 7 T_w_b, 7 T_b_c, kN) with the extrinsic held: (2 | 7, kN).
-template <int kN>
-class HeldExtrinsicCost final : public ceres::SizedCostFunction<2, 7, kN> {
- public:
-  HeldExtrinsicCost(ceres::CostFunction* vi, const SE3d& T_b_c) : vi_(vi) {
-    T_b_c.ToParameters(T_b_c_);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const double* p[3] = {parameters[0], T_b_c_, parameters[1]};
-    double* j[3] = {jacobians ? jacobians[0] : nullptr, nullptr,
-                    jacobians ? jacobians[1] : nullptr};
-    return vi_->Evaluate(p, residuals, jacobians ? j : nullptr);
-  }
-
- private:
-  std::unique_ptr<ceres::CostFunction> vi_;
-  double T_b_c_[7];
 };
 
 enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias };
@@ -249,14 +230,14 @@ struct SlidingWindowEstimator::Impl {
 
   ceres::CostFunction* PointCost(const Eigen::Vector2d& uv) const {
     if (!opt.inertial) return PointReprojectionFactor::Create(K, uv, PointSqrtInfo());
-    return new HeldExtrinsicCost<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
-                                    opt.inertial->T_b_c);
+    return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
+                                      opt.inertial->T_b_c);
   }
 
   ceres::CostFunction* LineCost(const sensor::SegmentObservation& s,
                                 const LineAnchor& anchor) const {
     if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
-    return new HeldExtrinsicCost<6>(
+    return new HeldExtrinsicFactor<6>(
         AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor),
         opt.inertial->T_b_c);
   }

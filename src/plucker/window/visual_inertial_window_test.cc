@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "plucker/eval/ate.h"
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/imu_factor.h"
 #include "plucker/factors/marginalization.h"
 #include "plucker/factors/point_reprojection_factor.h"
@@ -180,26 +181,6 @@ struct VectorPriorCost {
     return true;
   }
 };
-// A camera factor on the body pose with the extrinsic held (as the window builds it).
-class HeldExtrinsicPoint final : public ceres::SizedCostFunction<2, 7, 3> {
- public:
-  HeldExtrinsicPoint(const PinholeIntrinsics& K, const Eigen::Vector2d& uv, const SE3d& T_b_c)
-      : vi_(PointReprojectionFactorVI::Create(K, uv, Eigen::Matrix2d::Identity())) {
-    T_b_c.ToParameters(T_b_c_);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const double* p[3] = {parameters[0], T_b_c_, parameters[1]};
-    double* j[3] = {jacobians ? jacobians[0] : nullptr, nullptr,
-                    jacobians ? jacobians[1] : nullptr};
-    return vi_->Evaluate(p, residuals, jacobians ? j : nullptr);
-  }
-
- private:
-  std::unique_ptr<ceres::CostFunction> vi_;
-  double T_b_c_[7];
-};
-
 // The poses-only prior of the inertial mode eliminates in two stages: each leaving landmark with
 // all its observations (a prior on its observers' poses), then the oldest keyframe's pose,
 // velocity and bias from those priors, its state priors and its IMU factor. On a small problem
@@ -240,7 +221,9 @@ TEST(VisualInertialWindow, PosesOnlyPriorEqualsTheJointSchurComplement) {
   for (auto& [id, x] : lm) {
     per_landmark.emplace_back();
     for (const auto& [k, uv] : obs[id]) {
-      costs.emplace_back(new HeldExtrinsicPoint(s.rig.K, uv, s.rig.T_b_c));
+      costs.emplace_back(new HeldExtrinsicFactor<3>(
+          PointReprojectionFactorVI::Create(s.rig.K, uv, Eigen::Matrix2d::Identity()),
+          s.rig.T_b_c));
       const MarginalizationResidual r{costs.back().get(), &huber, {pose[k], x.data()}};
       joint.push_back(r);
       per_landmark.back().push_back(r);
