@@ -831,6 +831,12 @@ struct SlidingWindowEstimator::Impl {
       }
     }
     InstallPrior(std::move(next), next_blocks, result);
+    DropOldestKeyframe(remove_points, remove_lines, result);
+  }
+
+  // After k0 went into the prior: drop it and the landmarks eliminated with it.
+  void DropOldestKeyframe(const std::vector<int>& remove_points,
+                          const std::vector<int>& remove_lines, FrameResult* result) {
     keyframes.pop_front();
     keyframes.front()->imu_from_previous.reset();
     keyframes.front()->state_prior = false;
@@ -1011,15 +1017,7 @@ struct SlidingWindowEstimator::Impl {
     }
     InstallPrior(std::move(next), next_blocks, result);
     ConsumeTracks(retire_point, retire_line);
-    ConsumeTracks(retire_point, retire_line);
-    keyframes.pop_front();
-    keyframes.front()->imu_from_previous.reset();
-    keyframes.front()->state_prior = false;
-    for (int id : remove_points) points.erase(id);
-    for (int id : remove_lines) lines.erase(id);
-    result->marginalized_keyframes = 1;
-    result->marginalized_landmarks = static_cast<int>(remove_points.size() + remove_lines.size());
-    RemoveWeakLandmarks();
+    DropOldestKeyframe(remove_points, remove_lines, result);
   }
 
   // The tracks whose landmark went into a poses-only prior with all its window observations:
