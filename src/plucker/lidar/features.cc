@@ -18,18 +18,15 @@ namespace {
 
 constexpr int kMaxRings = 1024;
 
-// One ring's valid points in firing order, with the quantities the selection needs.
-struct Ring {
-  std::vector<Eigen::Vector3d> p;
-  std::vector<double> depth;
-  std::vector<int> source;  // index into the scan (for the time channel)
-};
+// One ring's valid points in firing order, as indices into the scan (4 bytes a point: the
+// points themselves are gathered ring by ring into a small buffer that stays in cache).
+using Ring = std::vector<int>;
 
 // Time of a ring point from the azimuth swept since the ring's first point (its direction).
 struct AzimuthClock {
-  AzimuthClock(const Ring& ring, double period)
-      : period(period), n(ring.p.size()), start(Azimuth(ring.p[0])) {
-    direction = Wrap(Azimuth(ring.p[std::max<std::size_t>(1, n / 4)]) - start) >= 0.0 ? 1.0 : -1.0;
+  AzimuthClock(const std::vector<Eigen::Vector3d>& p, double period)
+      : period(period), n(p.size()), start(Azimuth(p[0])) {
+    direction = Wrap(Azimuth(p[std::max<std::size_t>(1, n / 4)]) - start) >= 0.0 ? 1.0 : -1.0;
   }
   double operator()(const Eigen::Vector3d& p, std::size_t index) const {
     double swept = Wrap(direction * (Azimuth(p) - start));
@@ -63,7 +60,8 @@ struct RingFeatures {
 
 // Per-ring working arrays, reused from ring to ring and scan to scan.
 struct RingScratch {
-  std::vector<Eigen::Vector3d> prefix;
+  std::vector<Eigen::Vector3d> p, prefix;  // the ring's points (gathered), their prefix sums
+  std::vector<double> depth;
   std::vector<double> curvature;
   std::vector<char> picked, label;
   std::vector<int> order;
@@ -73,16 +71,21 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
                         RingScratch* scratch, RingFeatures* out) {
   out->Clear();
   const int k = std::max(1, o.curvature_half_window);
-  const int n = static_cast<int>(ring.p.size());
+  const int n = static_cast<int>(ring.size());
   if (n < 2 * k + 1 + o.sectors) return;
   out->used = true;
+  std::vector<Eigen::Vector3d>& p = scratch->p;
+  std::vector<double>& depth = scratch->depth;
+  p.resize(n);
+  depth.resize(n);
+  for (int i = 0; i < n; ++i) depth[i] = (p[i] = scan.points[ring[i]]).norm();
   const bool has_time = !scan.time.empty();
   const bool times = o.compute_times;
   const double supp_sq = o.suppression_distance * o.suppression_distance;
   const double thin_sq = 0.25 * o.plane_voxel_size * o.plane_voxel_size;
-  const AzimuthClock clock(ring, o.scan_period);
+  const AzimuthClock clock(p, o.scan_period);
   auto time_of = [&](int i) {
-    return has_time ? scan.time[ring.source[i]] : clock(ring.p[i], static_cast<std::size_t>(i));
+    return has_time ? scan.time[ring[i]] : clock(p[i], static_cast<std::size_t>(i));
   };
 
   // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
@@ -90,11 +93,11 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   prefix.resize(n + 1);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // a local: no store-to-load chain per point
   prefix[0] = sum;
-  for (int i = 0; i < n; ++i) prefix[i + 1] = sum += ring.p[i];
+  for (int i = 0; i < n; ++i) prefix[i + 1] = sum += p[i];
   std::vector<double>& curvature = scratch->curvature;
   curvature.assign(n, 0.0);
   for (int i = k; i < n - k; ++i) {
-    const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * ring.p[i];
+    const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * p[i];
     curvature[i] = diff.squaredNorm();
   }
 
@@ -104,18 +107,18 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   picked.assign(n, 0);
   label.assign(n, 0);
   for (int i = k; i < n - k - 1; ++i) {
-    const double d1 = ring.depth[i], d2 = ring.depth[i + 1];
+    const double d1 = depth[i], d2 = depth[i + 1];
     const double jump = std::abs(d1 - d2) / std::min(d1, d2);
     if (jump > o.occlusion_depth_jump &&  // and the points are angularly adjacent:
-        (ring.p[i + 1] / d2 - ring.p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
+        (p[i + 1] / d2 - p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
       // The k points on the farther surface next to the jump may be occluded.
       for (int j = d1 > d2 ? i - k + 1 : i + 1, l = 0; l < k; ++j, ++l) {
         if (!picked[j]) ++out->occluded_rejected;
         picked[j] = 2;
       }
     }
-    const double prev_sq = (ring.p[i] - ring.p[i - 1]).squaredNorm();
-    const double next_sq = (ring.p[i + 1] - ring.p[i]).squaredNorm();
+    const double prev_sq = (p[i] - p[i - 1]).squaredNorm();
+    const double next_sq = (p[i + 1] - p[i]).squaredNorm();
     const double bound = o.parallel_beam_ratio * d1 * d1;
     if (prev_sq > bound && next_sq > bound && !picked[i]) {
       picked[i] = 2;
@@ -125,11 +128,11 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
 
   auto suppress = [&](int i) {
     for (int l = 1; l <= k && i + l < n; ++l) {
-      if ((ring.p[i + l] - ring.p[i + l - 1]).squaredNorm() > supp_sq) break;
+      if ((p[i + l] - p[i + l - 1]).squaredNorm() > supp_sq) break;
       if (!picked[i + l]) picked[i + l] = 1;
     }
     for (int l = 1; l <= k && i - l >= 0; ++l) {
-      if ((ring.p[i - l] - ring.p[i - l + 1]).squaredNorm() > supp_sq) break;
+      if ((p[i - l] - p[i - l + 1]).squaredNorm() > supp_sq) break;
       if (!picked[i - l]) picked[i - l] = 1;
     }
   };
@@ -151,9 +154,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       if (picked[i]) continue;
       ++count;
       if (count > o.max_edges_per_sector) break;
-      if (count <= o.max_sharp_per_sector) out->sharp.push_back(ring.p[i]);
+      if (count <= o.max_sharp_per_sector) out->sharp.push_back(p[i]);
       label[i] = 1;
-      out->edges.push_back(ring.p[i]);
+      out->edges.push_back(p[i]);
       if (times) out->edge_times.push_back(time_of(i));
       picked[i] = 1;
       suppress(i);
@@ -171,7 +174,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       }
       if (best < 0) break;
       label[best] = -1;
-      out->flat.push_back(ring.p[best]);
+      out->flat.push_back(p[best]);
       picked[best] = 1;
       suppress(best);
     }
@@ -180,9 +183,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     Eigen::Vector3d last(1e30, 1e30, 1e30);
     for (int i = begin; i < end; ++i) {
       if (label[i] > 0 || picked[i] == 2) continue;
-      if (label[i] == 0 && (ring.p[i] - last).squaredNorm() < thin_sq) continue;
-      last = ring.p[i];
-      out->planes.push_back(ring.p[i]);
+      if (label[i] == 0 && (p[i] - last).squaredNorm() < thin_sq) continue;
+      last = p[i];
+      out->planes.push_back(p[i]);
       if (times) out->plane_times.push_back(time_of(i));
     }
   }
@@ -263,21 +266,14 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   }
   std::vector<Ring>& rings = buffers_->rings;
   if (static_cast<int>(rings.size()) < num_rings) rings.resize(num_rings);  // never shrinks
-  for (int r = 0; r < num_rings; ++r) {  // cleared, keeping their capacity
-    rings[r].p.clear();
-    rings[r].depth.clear();
-    rings[r].source.clear();
-  }
+  for (int r = 0; r < num_rings; ++r) rings[r].clear();  // keeping their capacity
   const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Eigen::Vector3d& p = scan.points[i];
     if (scan.ring[i] < 0 || !p.allFinite()) continue;
     const double sq = p.squaredNorm();
     if (sq < min_sq || sq > max_sq) continue;
-    Ring& ring = rings[scan.ring[i]];
-    ring.p.push_back(p);
-    ring.depth.push_back(std::sqrt(sq));
-    if (has_time) ring.source.push_back(static_cast<int>(i));
+    rings[scan.ring[i]].push_back(static_cast<int>(i));
     ++stats.valid_points;
   }
 
