@@ -185,8 +185,12 @@ class LidarOdometry::Impl {
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    if (first_round) plane_cache.assign(points_s.planes.size(), {});
-    if (first_round) edge_cache.assign(points_s.edges.size(), {});
+    if (first_round) {  // reach 0: every cache is searched afresh (no 1 MB re-initialised)
+      plane_cache.resize(points_s.planes.size());
+      edge_cache.resize(points_s.edges.size());
+      for (auto* caches : {&plane_cache, &edge_cache})
+        for (NeighbourCache& c : *caches) c.reach = 0.0f;
+    }
     auto match = [&](bool plane, std::size_t i, std::vector<Eigen::Vector3d>* nb, Match* m) {
       NeighbourCache& c = (plane ? plane_cache : edge_cache)[i];
       const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];
@@ -210,6 +214,7 @@ class LidarOdometry::Impl {
   DegeneracyCriterion criterion;
   std::optional<LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
+  std::vector<double> azimuth;  // AssignRingsFromScanOrder's scratch
   std::vector<Match> planes, edges;
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
@@ -293,7 +298,7 @@ void LidarOdometry::AssignScanRings(LidarScan* scan) {
   const RingSource source = options_.ring_source;
   const bool has_ring = scan->ring.size() == scan->size();
   if (source == RingSource::kScanOrder || (source == RingSource::kAuto && !has_ring)) {
-    AssignRingsFromScanOrder(scan);
+    AssignRingsFromScanOrder(scan, {}, &impl_->azimuth);
   } else if (source == RingSource::kElevation ||
              (source == RingSource::kAutoElevation && !has_ring)) {
     if (!impl_->sensor) impl_->sensor = AutoDetectSensor(*scan);

@@ -122,12 +122,15 @@ RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model) {
   return stats;
 }
 
-RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOptions& options) {
+RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOptions& options,
+                                             std::vector<double>* azimuth) {
   RingAssignmentStats stats;
   const std::size_t n = scan->size();
   scan->ring.assign(n, 0);
   if (n == 0) return stats;
-  std::vector<double> az(n);
+  std::vector<double> local;
+  std::vector<double>& az = azimuth ? *azimuth : local;
+  az.resize(n);
   for (std::size_t i = 0; i < n; ++i) az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
   // Sweep direction: the sign of the typical small step between consecutive points.
   double sum = 0.0;

@@ -63,13 +63,16 @@ RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model);
 // az ~ 0, counter-clockwise); a wrap is a drop by more than `wrap_threshold_rad` after the ring
 // has swept more than half a turn.
 // Ring numbers are then flipped if needed so that ring 0 is the lowest (by mean elevation).
-// Overwrites an existing ring field. For scans stored in firing order (KITTI .bin).
+// Overwrites an existing ring field. For scans stored in firing order (KITTI .bin). A caller that
+// processes a stream passes `azimuth`, a scratch buffer reused from scan to scan (without it, the
+// per-point azimuths, 1 MB for a KITTI scan, are a fresh allocation, page-faulted every scan).
 struct ScanOrderOptions {
   double wrap_threshold_rad = 3.14159265358979;  // azimuth jump (backwards) that starts a ring
   int min_points_per_ring = 16;  // shorter fragments are merged into the ring before them
 };
 RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan,
-                                             const ScanOrderOptions& options = ScanOrderOptions());
+                                             const ScanOrderOptions& options = ScanOrderOptions(),
+                                             std::vector<double>* azimuth = nullptr);
 
 // Guesses the sensor from the elevation histogram (vertical field of view and number of
 // distinct elevation peaks): returns HDL64, VLP32 or VLP16. `confidence` (optional, 0..1) says
