@@ -71,9 +71,13 @@ unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double 
                  NeighbourCache* c, std::vector<Eigen::Vector3d>* nb) {
   const Eigen::Vector3f q = q_w.cast<float>();
   std::array<std::pair<float, int>, kMaxNeighbours> d;
-  for (int j = 0; j < c->n; ++j) d[j] = {(c->cand[j] - q).squaredNorm(), j};
+  for (int j = 0; j < c->n; ++j) {  // insertion sort (n <= 16: no heap as in partial_sort)
+    const std::pair<float, int> e((c->cand[j] - q).squaredNorm(), j);
+    int i = j;
+    for (; i > 0 && e < d[i - 1]; --i) d[i] = d[i - 1];
+    d[i] = e;
+  }
   const int m = std::min(k, c->n);
-  std::partial_sort(d.begin(), d.begin() + m, d.begin() + c->n);
   int count = 0;
   while (count < m && d[count].first <= static_cast<float>(max_d * max_d)) ++count;
   const float bound = count == k ? std::sqrt(d[k - 1].first) : static_cast<float>(max_d);
