@@ -6,6 +6,7 @@
 #include <tsl/robin_set.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -17,6 +18,7 @@ namespace lidar {
 namespace {
 
 constexpr int kMaxRings = 1024;
+constexpr int kShortList = 8;  // flat candidates kept per sector (SelectRingFeatures)
 
 // One ring's valid points in firing order, as indices into the scan (4 bytes a point: the
 // points themselves are gathered ring by ring into a small buffer that stays in cache).
@@ -162,8 +164,10 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       suppress(i);
     }
 
-    // Flat: the smallest curvatures by repeated branch-free scans (first of equal minima wins).
-    for (count = 0; count < o.max_flat_per_sector; ++count) {
+    // Flat: the smallest curvatures below plane_threshold, first of equal minima first. One pass
+    // keeps the kShortList smallest in order; a pick is the first of them not suppressed, and
+    // only when suppression has used them all is the sector scanned again (branch-free).
+    auto smallest = [&] {
       int best = -1;
       double best_curvature = o.plane_threshold;  // candidates are below the threshold
       for (int i = begin; i < end; ++i) {
@@ -172,6 +176,22 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
         best = better ? i : best;
         best_curvature = better ? c : best_curvature;
       }
+      return best;
+    };
+    std::array<int, kShortList> list;
+    int size = 0, next = 0;
+    for (int i = begin; i < end; ++i) {
+      const double c = curvature[i];
+      if (c >= o.plane_threshold || picked[i] ||
+          (size == kShortList && c >= curvature[list[size - 1]]))
+        continue;
+      int j = size < kShortList ? size++ : size - 1;
+      for (; j > 0 && c < curvature[list[j - 1]]; --j) list[j] = list[j - 1];
+      list[j] = i;
+    }
+    for (count = 0; count < o.max_flat_per_sector; ++count) {
+      while (next < size && picked[list[next]]) ++next;
+      const int best = next < size ? list[next] : (size == kShortList ? smallest() : -1);
       if (best < 0) break;
       label[best] = -1;
       out->flat.push_back(p[best]);
