@@ -164,35 +164,29 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       suppress(i);
     }
 
-    // Flat: the smallest curvatures below plane_threshold, first of equal minima first. One pass
-    // keeps the kShortList smallest in order; a pick is the first of them not suppressed, and
-    // only when suppression has used them all is the sector scanned again (branch-free).
-    auto smallest = [&] {
-      int best = -1;
-      double best_curvature = o.plane_threshold;  // candidates are below the threshold
-      for (int i = begin; i < end; ++i) {
-        const double c = picked[i] ? std::numeric_limits<double>::infinity() : curvature[i];
-        const bool better = c < best_curvature;
-        best = better ? i : best;
-        best_curvature = better ? c : best_curvature;
-      }
-      return best;
-    };
+    // Flat: the smallest curvatures below plane_threshold, first of equal minima first: a pick is
+    // the first unsuppressed of the kShortList smallest, kept in order by one pass over the
+    // sector (repeated only when suppression has used them all up).
     std::array<int, kShortList> list;
     int size = 0, next = 0;
-    for (int i = begin; i < end; ++i) {
-      const double c = curvature[i];
-      if (c >= o.plane_threshold || picked[i] ||
-          (size == kShortList && c >= curvature[list[size - 1]]))
-        continue;
-      int j = size < kShortList ? size++ : size - 1;
-      for (; j > 0 && c < curvature[list[j - 1]]; --j) list[j] = list[j - 1];
-      list[j] = i;
-    }
+    auto fill = [&] {
+      size = next = 0;
+      for (int i = begin; i < end; ++i) {
+        const double c = curvature[i];
+        if (c >= o.plane_threshold || picked[i] ||
+            (size == kShortList && c >= curvature[list[size - 1]]))
+          continue;
+        int j = size < kShortList ? size++ : size - 1;
+        for (; j > 0 && c < curvature[list[j - 1]]; --j) list[j] = list[j - 1];
+        list[j] = i;
+      }
+    };
+    fill();
     for (count = 0; count < o.max_flat_per_sector; ++count) {
       while (next < size && picked[list[next]]) ++next;
-      const int best = next < size ? list[next] : (size == kShortList ? smallest() : -1);
-      if (best < 0) break;
+      if (next == size && size == kShortList) fill();
+      if (next == size) break;
+      const int best = list[next];
       label[best] = -1;
       out->flat.push_back(p[best]);
       picked[best] = 1;

@@ -189,12 +189,8 @@ class LidarOdometry::Impl {
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    if (first_round) {  // reach 0: every cache is searched afresh (no 1 MB re-initialised)
-      plane_cache.resize(points_s.planes.size());
-      edge_cache.resize(points_s.edges.size());
-      for (auto* caches : {&plane_cache, &edge_cache})
-        for (NeighbourCache& c : *caches) c.reach = 0.0f;
-    }
+    if (first_round) plane_cache.assign(points_s.planes.size(), {});
+    if (first_round) edge_cache.assign(points_s.edges.size(), {});
     auto match = [&](bool plane, std::size_t i, std::vector<Eigen::Vector3d>* nb, Match* m) {
       NeighbourCache& c = (plane ? plane_cache : edge_cache)[i];
       const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];

@@ -15,14 +15,13 @@ constexpr int kMaxRows = 3;  // largest residual block of the LiDAR factors
 using AmbientJacobian = Eigen::Matrix<double, kMaxRows, 7, Eigen::RowMajor>;
 using PlusJacobian = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
 
-// H += w J^T J and g += w J^T r for one residual block of kRows rows, in the ambient 7 values
-// (projected to the tangent once per evaluation: fewer products than per block).
+// H += w J^T J and g += w J^T r for one residual block of kRows rows, J = J_ambient P (tangent).
 template <int kRows>
-void AddBlock(const AmbientJacobian& J_ambient, const double* r, double w,
-              Eigen::Matrix<double, 7, 7>* H, Eigen::Matrix<double, 7, 1>* g) {
-  const auto J = J_ambient.topRows<kRows>();
-  H->noalias() += (w * J.transpose()) * J;
-  g->noalias() += (w * J.transpose()) * Eigen::Matrix<double, kRows, 1>::Map(r);
+void AddBlock(const AmbientJacobian& J_ambient, const PlusJacobian& P, const double* r, double w,
+              NormalEquations* eq) {
+  const Eigen::Matrix<double, kRows, 6> J = J_ambient.topRows<kRows>() * P;
+  eq->H.noalias() += (w * J.transpose()) * J;
+  eq->g.noalias() += (w * J.transpose()) * Eigen::Matrix<double, kRows, 1>::Map(r);
 }
 
 }  // namespace
@@ -41,8 +40,6 @@ bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFuncti
   double* jacobians[1] = {J_ambient.data()};
   double r[kMaxRows];
   double total = 0.0;
-  Eigen::Matrix<double, 7, 7> H = Eigen::Matrix<double, 7, 7>::Zero();
-  Eigen::Matrix<double, 7, 1> g = Eigen::Matrix<double, 7, 1>::Zero();
   for (const auto& f : residuals) {
     const int rows = f->num_residuals();
     if (rows > kMaxRows || !f->Evaluate(parameters, r, jacobians)) return false;
@@ -50,13 +47,11 @@ bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFuncti
     if (loss != nullptr) loss->Evaluate(rho[0], rho);
     total += rho[0];
     const double w = rho[1];
-    if (rows == 1) AddBlock<1>(J_ambient, r, w, &H, &g);
-    if (rows == 2) AddBlock<2>(J_ambient, r, w, &H, &g);
-    if (rows == 3) AddBlock<3>(J_ambient, r, w, &H, &g);
+    if (rows == 1) AddBlock<1>(J_ambient, plus_jacobian, r, w, eq);
+    if (rows == 2) AddBlock<2>(J_ambient, plus_jacobian, r, w, eq);
+    if (rows == 3) AddBlock<3>(J_ambient, plus_jacobian, r, w, eq);
     eq->num_residuals += rows;
   }
-  eq->H.noalias() = plus_jacobian.transpose() * H * plus_jacobian;  // J = J_ambient P
-  eq->g.noalias() = plus_jacobian.transpose() * g;
   eq->cost = 0.5 * total;
   return std::isfinite(total) && eq->H.allFinite() && eq->g.allFinite();
 }
