@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 
 #include "plucker/geometry/fast_atan2.h"
 #include "plucker/lidar/voxel_map.h"
@@ -20,8 +19,7 @@ namespace {
 constexpr int kMaxRings = 1024;
 constexpr int kShortList = 8;  // flat candidates kept per sector (SelectRingFeatures)
 
-// One ring's valid points in firing order, as indices into the scan (4 bytes a point: the
-// points themselves are gathered ring by ring into a small buffer that stays in cache).
+// One ring's valid points in firing order as indices into the scan (gathered in RingScratch).
 using Ring = std::vector<int>;
 
 // Time of a ring point from the azimuth swept since the ring's first point (its direction).
@@ -54,17 +52,15 @@ struct RingFeatures {
 
   void Clear() {  // keeps the capacity
     for (auto* v : {&sharp, &flat, &edges, &planes}) v->clear();
-    edge_times.clear(), plane_times.clear();
+    edge_times.clear(), plane_times.clear(), used = false;
     occluded_rejected = parallel_rejected = 0;
-    used = false;
   }
 };
 
 // Per-ring working arrays, reused from ring to ring and scan to scan.
 struct RingScratch {
   std::vector<Eigen::Vector3d> p, prefix;  // the ring's points (gathered), their prefix sums
-  std::vector<double> depth;
-  std::vector<double> curvature;
+  std::vector<double> depth, curvature;
   std::vector<char> picked, label;
   std::vector<int> order;
 };
@@ -78,8 +74,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   out->used = true;
   std::vector<Eigen::Vector3d>& p = scratch->p;
   std::vector<double>& depth = scratch->depth;
-  p.resize(n);
-  depth.resize(n);
+  p.resize(n), depth.resize(n);
   for (int i = 0; i < n; ++i) depth[i] = (p[i] = scan.points[ring[i]]).norm();
   const bool has_time = !scan.time.empty();
   const bool times = o.compute_times;
@@ -164,11 +159,10 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       suppress(i);
     }
 
-    // Flat: the smallest curvatures below plane_threshold, first of equal minima first: a pick is
-    // the first unsuppressed of the kShortList smallest, kept in order by one pass over the
-    // sector (repeated only when suppression has used them all up).
+    // Flat: the smallest curvatures below plane_threshold (first of equal minima first): the first
+    // unsuppressed of the kShortList smallest, kept by one pass (again if all are suppressed).
     std::array<int, kShortList> list;
-    int size = 0, next = 0;
+    int size = kShortList, next = kShortList;  // all used up: filled for the first pick
     auto fill = [&] {
       size = next = 0;
       for (int i = begin; i < end; ++i) {
@@ -181,7 +175,6 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
         list[j] = i;
       }
     };
-    fill();
     for (count = 0; count < o.max_flat_per_sector; ++count) {
       while (next < size && picked[list[next]]) ++next;
       if (next == size && size == kShortList) fill();
@@ -270,24 +263,23 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   }
 
   // Split into rings, keeping firing order; range gating and NaN removal.
-  int num_rings = 0;
-  for (int r : scan.ring) {
+  std::vector<Ring>& rings = buffers_->rings;
+  rings.resize(kMaxRings);  // allocated once, cleared keeping their capacity
+  for (Ring& ring : rings) ring.clear();
+  int num_rings = 0;  // 1 + the highest ring with a valid point
+  const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const int r = scan.ring[i];
     if (r >= kMaxRings) {
       *error = "ring index " + std::to_string(r) + " out of range";
       return false;
     }
-    num_rings = std::max(num_rings, r + 1);
-  }
-  std::vector<Ring>& rings = buffers_->rings;
-  if (static_cast<int>(rings.size()) < num_rings) rings.resize(num_rings);  // never shrinks
-  for (int r = 0; r < num_rings; ++r) rings[r].clear();  // keeping their capacity
-  const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
     const Eigen::Vector3d& p = scan.points[i];
-    if (scan.ring[i] < 0 || !p.allFinite()) continue;
+    if (r < 0 || !p.allFinite()) continue;
     const double sq = p.squaredNorm();
     if (sq < min_sq || sq > max_sq) continue;
-    rings[scan.ring[i]].push_back(static_cast<int>(i));
+    rings[r].push_back(static_cast<int>(i));
+    num_rings = std::max(num_rings, r + 1);
     ++stats.valid_points;
   }
 

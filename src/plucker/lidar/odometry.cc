@@ -18,12 +18,6 @@
 namespace plucker {
 namespace lidar {
 
-using sensor::AssignRings;
-using sensor::AssignRingsFromScanOrder;
-using sensor::AutoDetectSensor;
-using sensor::LidarModel;
-using sensor::LidarModelFromName;
-
 namespace {
 
 // A feature point p_s and its map plane (x_w, normal d_w) or line (x_w, direction d_w).
@@ -73,9 +67,8 @@ unsigned Nearest(const VoxelMap& map, const Eigen::Vector3d& q_w, int k, double 
   std::array<std::pair<float, int>, kMaxNeighbours> d;
   for (int j = 0; j < c->n; ++j) {  // insertion sort (n <= 16: no heap as in partial_sort)
     const std::pair<float, int> e((c->cand[j] - q).squaredNorm(), j);
-    int i = j;
-    for (; i > 0 && e < d[i - 1]; --i) d[i] = d[i - 1];
-    d[i] = e;
+    const auto at = std::upper_bound(d.begin(), d.begin() + j, e);
+    *std::prev(std::copy_backward(at, d.begin() + j, d.begin() + j + 1)) = e;  // at <- e
   }
   const int m = std::min(k, c->n);
   int count = 0;
@@ -147,7 +140,7 @@ class LidarOdometry::Impl {
  public:
   explicit Impl(const LidarOdometryOptions& o) : loss(MakeLoss(o.loss, o.loss_scale)) {
     if (o.num_threads > 1) arena = std::make_unique<tbb::task_arena>(o.num_threads);
-    if (o.sensor != "auto") sensor = LidarModelFromName(o.sensor);
+    if (o.sensor != "auto") sensor = sensor::LidarModelFromName(o.sensor);
     criterion.translation_ratio = o.degeneracy_threshold;
     criterion.rotation_ratio = o.degeneracy_rotation_threshold;
     criterion.max_translation_information =
@@ -212,7 +205,7 @@ class LidarOdometry::Impl {
   std::unique_ptr<tbb::task_arena> arena;  // none: one thread
   std::unique_ptr<ceres::LossFunction> loss;
   DegeneracyCriterion criterion;
-  std::optional<LidarModel> sensor;
+  std::optional<sensor::LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<double> azimuth;  // AssignRingsFromScanOrder's scratch
   std::vector<Match> planes, edges;
@@ -298,12 +291,12 @@ void LidarOdometry::AssignScanRings(LidarScan* scan) {
   const RingSource source = options_.ring_source;
   const bool has_ring = scan->ring.size() == scan->size();
   if (source == RingSource::kScanOrder || (source == RingSource::kAuto && !has_ring)) {
-    AssignRingsFromScanOrder(scan, {}, &impl_->azimuth);
+    sensor::AssignRingsFromScanOrder(scan, {}, &impl_->azimuth);
   } else if (source == RingSource::kElevation ||
              (source == RingSource::kAutoElevation && !has_ring)) {
-    if (!impl_->sensor) impl_->sensor = AutoDetectSensor(*scan);
+    if (!impl_->sensor) impl_->sensor = sensor::AutoDetectSensor(*scan);
     scan->ring.clear();
-    AssignRings(scan, *impl_->sensor);
+    sensor::AssignRings(scan, *impl_->sensor);
   }
 }
 
