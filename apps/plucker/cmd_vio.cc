@@ -547,10 +547,10 @@ int Run(const VioArgs& a) {
       continue;
     }
     T_w_b[i] = r.state.T_w_b;
-    status[i] = r.imu_only ? (in.frames[i].stationary ? "stationary" : "imu_only") : "tracked";
+    status[i] = r.imu_only ? (r.stationary ? "stationary" : "imu_only") : "tracked";
     keyframes += r.keyframe;
-    imu_only += r.imu_only && !in.frames[i].stationary;
-    stationary += in.frames[i].stationary;
+    imu_only += r.imu_only && !r.stationary;
+    stationary += r.stationary;
     marginalized += r.marginalized_keyframes;
     failed_marginalizations += r.marginalization_failed;
     chi2_total += r.imu_chi2;

@@ -1183,6 +1183,8 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(
   for (std::size_t k = 0; k < frames.size(); ++k) {
     m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * T_b_c));
     m.keyframes.back()->SetState(states[k]);
+    m.keyframes.back()->input.stationary =
+        frames[k].stationary && states[k].v_w.norm() < m.opt.inertial->stationary_max_speed;
     if (k > 0) m.keyframes.back()->imu_from_previous = std::move(imu[k - 1]);
   }
   Frame& fa = *m.keyframes.front();
@@ -1215,7 +1217,9 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   InertialState imu_state;
   if (m.opt.inertial) {
     imu_state = m.Predict(input.time, &imu);
-    if (input.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
+    result.stationary = input.stationary && m.keyframes.back()->State().v_w.norm() <
+                                                m.opt.inertial->stationary_max_speed;
+    if (result.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
       imu_state.T_w_b = m.keyframes.back()->State().T_w_b;
       imu_state.v_w.setZero();
     }
@@ -1224,6 +1228,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
                          : m.opt.inertial  ? imu_state.T_w_b * m.opt.inertial->T_b_c
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
+  frame->input.stationary = result.stationary;
   stage(WindowStage::kTracking);
   Impl::TrackResult track = m.Track(frame.get(), predicted);
   if (!track.ok && m.opt.pnp_fallback) {

@@ -98,6 +98,11 @@ struct InertialOptions {
   double stationary_position_sigma = 1e-3;  // m
   double stationary_rotation_sigma = 1e-4;  // rad
   double stationary_velocity_sigma = 1e-2;  // m/s
+  // The caller's flag is believed only while the newest keyframe's speed is below this: under
+  // forward motion most points lie far ahead and barely move in the image (the simulated
+  // corridor at 0.3-1 m/s: a median displacement under 3 px in 50 of 600 frames), which an image
+  // test alone takes for standing still.
+  double stationary_max_speed = 0.05;  // m/s
 };
 
 struct SlidingWindowOptions {
@@ -220,6 +225,7 @@ struct FrameResult {
   // solve (15 degrees of freedom; 0 for a non-keyframe).
   InertialState state;
   bool imu_only = false;
+  bool stationary = false;  // the caller's flag, believed (InertialOptions::stationary_max_speed)
   double imu_chi2 = 0.0;
 };
 

@@ -445,6 +445,71 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
   EXPECT_THROW(small.InitializeInertial(frames, states), std::invalid_argument);
 }
 
+// The caller's "no image motion" flag: believed for a standing body (its pose held by the
+// zero-motion factors against an accelerometer offset), ignored for a moving one (forward motion
+// can look still in the image).
+TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenItMoves) {
+  const sim::CameraSimulation s = Simulate(40, true, 5);
+  SlidingWindowOptions options;
+  options.inertial = InertialOptions();
+  options.inertial->T_b_c = s.rig.T_b_c;
+  options.inertial->gravity_w = s.imu_options.gravity_w;
+  {  // Standing: frame 0's view repeated, the IMU reading gravity plus a 0.05 m/s^2 offset.
+    InertialState still;
+    still.T_w_b = s.T_w_b_gt[0];
+    std::vector<sensor::ImuSample> imu;
+    for (int k = 0; k <= 500; ++k) {
+      sensor::ImuSample m;
+      m.t = 0.005 * k;
+      m.accel = still.T_w_b.RotationMatrix().transpose() * -s.imu_options.gravity_w +
+                Eigen::Vector3d(0.05, 0.0, 0.0);
+      imu.push_back(m);
+    }
+    std::vector<FrameInput> in(21);
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      in[i].time = 0.1 * static_cast<double>(i);
+      in[i].stationary = true;
+      for (const auto& p : s.points)
+        if (p.frame == 0) in[i].points.push_back(p);
+    }
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    estimator.AddImu(imu);
+    ASSERT_TRUE(estimator.InitializeInertial(in[0], still, in[1], still, 0).ok);
+    int held = 0;
+    double drift = 0.0;
+    for (std::size_t i = 2; i < in.size(); ++i) {
+      const FrameResult r = estimator.AddFrame(in[i]);
+      held += r.stationary;
+      drift = std::max(drift, (r.state.T_w_b.translation() - still.T_w_b.translation()).norm());
+    }
+    std::printf("standing body: %d of %zu frames held, drift %.2e m (the offset alone: %.3f m)\n",
+                held, in.size() - 2, drift, 0.5 * 0.05 * 2.0 * 2.0);
+    EXPECT_EQ(held, static_cast<int>(in.size()) - 2);
+    EXPECT_LT(drift, 2e-3);
+  }
+  {  // Moving, every frame flagged: the flags are ignored, the poses tracked.
+    std::vector<FrameInput> in(s.frame_times.size());
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      in[i].time = s.frame_times[i];
+      in[i].stationary = true;
+    }
+    for (const auto& p : s.points) in[p.frame].points.push_back(p);
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    estimator.AddImu(s.imu);
+    ASSERT_GT(s.v_w_gt[3].norm(), 5.0 * options.inertial->stationary_max_speed);
+    ASSERT_TRUE(estimator.InitializeInertial(in[0], TrueState(s, 0), in[3], TrueState(s, 3)).ok);
+    int held = 0, checked = 0;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const FrameResult r = estimator.AddFrame(in[i]);
+      held += r.stationary;
+      EXPECT_LT((r.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 0.1) << i;
+      ++checked;
+    }
+    EXPECT_EQ(held, 0);
+    EXPECT_EQ(checked, static_cast<int>(in.size()) - 4);
+  }
+}
+
 TEST(TwoViewInitialization, AKnownRotationRefusesADisagreeingEssentialMatrix) {
   const sim::CameraSimulation s = Simulate(10, true, 4);
   std::vector<std::vector<sensor::PointObservation>> points(s.frame_times.size());
