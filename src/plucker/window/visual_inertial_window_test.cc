@@ -449,7 +449,7 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
 // zero-motion factors against an accelerometer offset), ignored for a moving one (forward motion
 // can look still in the image).
 TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenItMoves) {
-  const sim::CameraSimulation s = Simulate(40, true, 5);
+  const sim::CameraSimulation s = Simulate(16, true, 5);  // short: sanitizer budget
   SlidingWindowOptions options;
   options.inertial = InertialOptions();
   options.inertial->T_b_c = s.rig.T_b_c;
