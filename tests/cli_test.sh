@@ -427,6 +427,9 @@ expect vio-bad-config nonzero "vio_bad.yaml: unknown option 'windw'" -- \
 printf 'line_detection_scale: 2\n' > "$T/vio_range.yaml"
 expect vio-config-range nonzero "vio_range.yaml: an option is out of range" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range.yaml"
+printf 'init_gyro_bias_bound: -1\n' > "$T/vio_range_gyro.yaml"
+expect vio-config-range-gyro nonzero "vio_range_gyro.yaml: an option is out of range" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_gyro.yaml"
 # The prior on the landmarks (the poses-only prior is the default) still runs.
 printf 'prior_on_poses_only: false\n' > "$T/vio_full.yaml"
 expect vio-landmark-prior 0 "40 frames, dynamic initialisation" -- \

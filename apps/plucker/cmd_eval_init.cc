@@ -54,6 +54,11 @@ struct StaticReport {
   Eigen::Vector3d gt_gyro_bias = Eigen::Vector3d::Zero(), gt_accel_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d gt_up = Eigen::Vector3d::UnitZ();
   double gyro_bias_error = 0.0, gravity_error_deg = 0.0, gt_horizontal_accel_bias = 0.0;
+  // The ground truth's own consistency over the still span: the mean accelerometer reading
+  // against the ground truth's up direction, raw and minus the ground truth's accel bias (0 if
+  // its attitude and bias agreed), and how far its up direction wanders from its mean.
+  double raw_accel_vs_gt_up_deg = 0.0, debiased_accel_vs_gt_up_deg = 0.0;
+  double gt_up_wander_deg = 0.0;
 };
 
 StaticReport EvaluateStatic(const io::EurocImuRecording& rec, const Eigen::Vector3d& bias_prior) {
@@ -77,6 +82,21 @@ StaticReport EvaluateStatic(const io::EurocImuRecording& rec, const Eigen::Vecto
   s.gyro_bias_error = (s.result.bias.gyro - s.gt_gyro_bias).norm();
   s.gravity_error_deg = inertial::AngleBetween(s.result.up_b, s.gt_up) / kDeg;
   s.gt_horizontal_accel_bias = (s.gt_accel_bias - s.gt_accel_bias.dot(s.gt_up) * s.gt_up).norm();
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();
+  int samples = 0;
+  for (const sensor::ImuSample& m : rec.imu) {
+    if (m.t < s.result.still_begin || m.t >= s.result.still_end) continue;
+    accel += m.accel;
+    ++samples;
+  }
+  accel /= std::max(samples, 1);
+  s.raw_accel_vs_gt_up_deg = inertial::AngleBetween(accel, s.gt_up) / kDeg;
+  s.debiased_accel_vs_gt_up_deg = inertial::AngleBetween(accel - s.gt_accel_bias, s.gt_up) / kDeg;
+  for (const sensor::BodyState& b : rec.ground_truth) {
+    if (b.t < s.result.still_begin || b.t >= s.result.still_end) continue;
+    s.gt_up_wander_deg =
+        std::max(s.gt_up_wander_deg, inertial::AngleBetween(UpB(b.T_w_b), s.gt_up) / kDeg);
+  }
   return s;
 }
 
@@ -200,6 +220,11 @@ void PrintStatic(const StaticReport& s) {
       s.gt_horizontal_accel_bias / 9.81 / kDeg);
   std::printf("  accel bias along gravity %.4f m/s^2 (ground truth %.4f)\n",
               r.bias.accel.dot(r.up_b), s.gt_accel_bias.dot(s.gt_up));
+  std::printf(
+      "  ground truth consistency: the mean accelerometer is %.3f deg from the ground truth's up "
+      "direction, %.3f deg after subtracting the ground truth's accel bias (0 if its attitude "
+      "and bias agreed); its up direction wanders %.3f deg from its mean over the still span\n",
+      s.raw_accel_vs_gt_up_deg, s.debiased_accel_vs_gt_up_deg, s.gt_up_wander_deg);
 }
 
 void PrintDynamic(const DynamicReport& d, const EvalInitArgs& a) {
@@ -235,6 +260,9 @@ nlohmann::json StaticJson(const StaticReport& s) {
   j["gt_horizontal_accel_bias_mps2"] = s.gt_horizontal_accel_bias;
   j["accel_bias_along_gravity_mps2"] = r.bias.accel.dot(r.up_b);
   j["gt_accel_bias_along_gravity_mps2"] = s.gt_accel_bias.dot(s.gt_up);
+  j["raw_accel_vs_gt_up_deg"] = s.raw_accel_vs_gt_up_deg;
+  j["debiased_accel_vs_gt_up_deg"] = s.debiased_accel_vs_gt_up_deg;
+  j["gt_up_wander_deg"] = s.gt_up_wander_deg;
   return j;
 }
 

@@ -67,6 +67,10 @@ struct VioConfig {
   int init_min_keyframes = 10;        // dynamic initialisation: keyframes before the alignment
   int init_max_keyframes = 30;        // ... and the most it waits for
   double init_min_excitation = 0.25;  // m/s^2
+  // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
+  // within this angle plus init_gyro_bias_bound times the time between the two frames.
+  double init_max_rotation_disagreement_deg = 1.0;
+  double init_gyro_bias_bound = 0.1;  // rad/s, the largest gyro bias expected before it is known
   // A frame whose median point displacement against the previous frame exceeds this moves
   // (vetoes the static initialisation over its IMU block).
   double image_still_px = 3.0;
@@ -114,6 +118,8 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"init_min_keyframes", Field(&VioConfig::init_min_keyframes)},
       {"init_max_keyframes", Field(&VioConfig::init_max_keyframes)},
       {"init_min_excitation", Field(&VioConfig::init_min_excitation)},
+      {"init_max_rotation_disagreement_deg", Field(&VioConfig::init_max_rotation_disagreement_deg)},
+      {"init_gyro_bias_bound", Field(&VioConfig::init_gyro_bias_bound)},
       {"image_still_px", Field(&VioConfig::image_still_px)},
       {"max_point_tracks", Field(&VioConfig::max_point_tracks)},
       {"point_min_distance_px", Field(&VioConfig::point_min_distance_px)},
@@ -147,7 +153,8 @@ void ApplyConfig(const std::string& path, VioConfig* c) {
   if (c->point_stride < 1 || c->window < 2 || c->iterations < 1 || c->init_min_keyframes < 4 ||
       c->init_max_keyframes < c->init_min_keyframes || !(c->max_keyframe_interval_s > 0.0) ||
       !(c->gyro_bias_prior_sigma > 0.0) || !(c->accel_bias_prior_sigma > 0.0) ||
-      !(c->velocity_prior_sigma > 0.0) || c->max_point_tracks < 1 ||
+      !(c->velocity_prior_sigma > 0.0) || !(c->init_max_rotation_disagreement_deg > 0.0) ||
+      !(c->init_gyro_bias_bound >= 0.0) || c->max_point_tracks < 1 ||
       !(c->point_min_distance_px > 0.0) || c->line_max_segments < 0 ||
       !(c->line_detection_scale > 0.0 && c->line_detection_scale <= 1.0) ||
       c->line_flow_samples < 2) {
@@ -245,12 +252,24 @@ bool StartDynamic(const VioInput& in, const VioConfig& c, VioStart* s) {
   const int n = static_cast<int>(in.frames.size());
   window::SlidingWindowOptions vo = WindowOptions(c, in);
   vo.inertial.reset();
+  vo.max_keyframe_interval_s = c.max_keyframe_interval_s;  // short IMU spans for the alignment
   vo.window_size = c.init_max_keyframes + 2;  // nothing is marginalized before the alignment
   for (int i = 0; i + 1 < n; ++i) {
     if (!Covered(in, in.frames[i].time)) continue;
     for (int j = i + 1; j < n && j <= i + 30; ++j) {
-      const window::TwoViewResult tv =
-          window::InitializeTwoView(in.K, in.frames[i].points, in.frames[j].points);
+      if (!Covered(in, in.frames[j].time)) break;
+      // The gyroscope's rotation between the two frames checks the visual start.
+      const Eigen::Matrix3d R_bi_bj =
+          PreintegrateSamples(in.imu, in.frames[i].time, in.frames[j].time, ImuBias(), in.imu_model)
+              .DeltaR();
+      const Eigen::Matrix3d R_b_c = in.T_b_c.RotationMatrix();
+      const Eigen::Matrix3d R_cj_ci = R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
+      window::TwoViewOptions two_view;
+      two_view.max_rotation_disagreement_deg =
+          c.init_max_rotation_disagreement_deg +
+          c.init_gyro_bias_bound * (in.frames[j].time - in.frames[i].time) * 180.0 / M_PI;
+      const window::TwoViewResult tv = window::InitializeTwoView(
+          in.K, in.frames[i].points, in.frames[j].points, two_view, R_cj_ci);
       if (!tv.ok) continue;
       window::SlidingWindowEstimator estimator(in.K, vo);
       const window::InitializationResult init =
@@ -434,9 +453,30 @@ int Run(const VioArgs& a) {
   VioStart start = Start(in, cfg);
   window::SlidingWindowEstimator estimator(in.K, WindowOptions(cfg, in));
   estimator.AddImu(in.imu);
-  window::InitializationResult init = estimator.InitializeInertial(
-      in.frames[start.first], start.state_first, in.frames[start.second], start.state_second,
-      start.method == "static" ? 0 : 10);
+  // Dynamic: the window starts with the aligned keyframes (the newest `window` of them), else
+  // (too few landmarks) with the earliest of them that shares enough landmarks with the newest.
+  std::vector<int> start_keyframes;
+  window::InitializationResult init;
+  if (start.method == "dynamic") {
+    std::vector<window::FrameInput> frames;
+    std::vector<window::InertialState> states;
+    const int first = std::max(0, static_cast<int>(start.candidates.size()) + 1 - cfg.window);
+    for (int k = first; k < static_cast<int>(start.candidates.size()); ++k) {
+      start_keyframes.push_back(start.candidates[k]);
+      frames.push_back(in.frames[start.candidates[k]]);
+      states.push_back(start.candidate_states[k]);
+    }
+    start_keyframes.push_back(start.second);
+    frames.push_back(in.frames[start.second]);
+    states.push_back(start.state_second);
+    init = estimator.InitializeInertial(frames, states, 10);
+    if (init.ok) start.first = start_keyframes.front();
+  }
+  if (!init.ok) {
+    init = estimator.InitializeInertial(in.frames[start.first], start.state_first,
+                                        in.frames[start.second], start.state_second,
+                                        start.method == "static" ? 0 : 10);
+  }
   for (std::size_t k = 1; !init.ok && k < start.candidates.size(); ++k) {
     start.first = start.candidates[k];
     start.state_first = start.candidate_states[k];
@@ -455,12 +495,24 @@ int Run(const VioArgs& a) {
     status[f] = T_w_b[f] ? "initialization" : "before_initialization";
   }
   const std::vector<window::InertialState> first_states = estimator.KeyframeStates();
-  T_w_b[start.first] = first_states.front().T_w_b;
-  T_w_b[start.second] = first_states.back().T_w_b;
-  per_frame[start.first]["keyframe"] = per_frame[start.second]["keyframe"] = true;
+  if (first_states.size() != start_keyframes.size() || start_keyframes.front() != start.first)
+    start_keyframes = {start.first, start.second};
+  for (std::size_t k = 0; k < start_keyframes.size(); ++k) {
+    T_w_b[start_keyframes[k]] = first_states[k].T_w_b;
+    per_frame[start_keyframes[k]]["keyframe"] = true;
+  }
+  const SE3d T_c_b = in.T_b_c.Inverse();
+  // Frames between the window's first keyframes: localized against its map (the aligned visual
+  // poses carry the alignment's scale error), from the aligned pose of the frame.
+  for (std::size_t k = 0; start.method == "dynamic" && k + 1 < start_keyframes.size(); ++k) {
+    for (int f = start_keyframes[k] + 1; f < start_keyframes[k + 1]; ++f) {
+      if (!T_w_b[f]) continue;
+      const std::optional<SE3d> T_w_c = estimator.Localize(in.frames[f], *T_w_b[f] * in.T_b_c);
+      if (T_w_c) T_w_b[f] = *T_w_c * T_c_b;
+    }
+  }
   // Frames before the initialisation without a pose: localized against the first map (motion-
   // only), else the first pose (the body taken as where it started).
-  const SE3d T_c_b = in.T_b_c.Inverse();
   for (int f = start.first - 1; f >= 0; --f) {
     if (T_w_b[f]) continue;
     const SE3d& next = *T_w_b[f + 1];
@@ -495,10 +547,10 @@ int Run(const VioArgs& a) {
       continue;
     }
     T_w_b[i] = r.state.T_w_b;
-    status[i] = r.imu_only ? (in.frames[i].stationary ? "stationary" : "imu_only") : "tracked";
+    status[i] = r.imu_only ? (r.stationary ? "stationary" : "imu_only") : "tracked";
     keyframes += r.keyframe;
-    imu_only += r.imu_only && !in.frames[i].stationary;
-    stationary += in.frames[i].stationary;
+    imu_only += r.imu_only && !r.stationary;
+    stationary += r.stationary;
     marginalized += r.marginalized_keyframes;
     failed_marginalizations += r.marginalization_failed;
     chi2_total += r.imu_chi2;
@@ -623,7 +675,8 @@ void RegisterVio(CLI::App& app, int* exit_code) {
          "prior_on_poses_only, iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
          "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
          "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
-         "init_min_excitation, image_still_px, max_point_tracks, point_min_distance_px, "
+         "init_min_excitation, init_max_rotation_disagreement_deg, init_gyro_bias_bound, "
+         "image_still_px, max_point_tracks, point_min_distance_px, "
          "line_max_segments, line_detection_scale, line_flow_samples")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-lines", args->no_lines, "Points only");

@@ -1075,7 +1075,9 @@ struct SlidingWindowEstimator::Impl {
   // The tail of both initialisations: the two keyframes are in place.
   InitializationResult StartWindow(int min_landmarks) {
     InitializationResult result;
-    Triangulate(*keyframes.back(), &result.points, &result.lines);
+    // Newest first; with two keyframes only the newest finds tracks seen twice.
+    for (auto it = keyframes.rbegin(); it != keyframes.rend(); ++it)
+      Triangulate(**it, &result.points, &result.lines);
     if (result.points + result.lines < min_landmarks) {
       Clear();
       return result;
@@ -1113,6 +1115,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
   if (!(options.point_sigma_px > 0.0) || !(options.line_sigma_px > 0.0) ||
       !(options.loss_scale > 0.0))
     throw std::invalid_argument("SlidingWindowEstimator: sigmas and loss scale must be positive");
+  if (!(options.max_keyframe_interval_s >= 0.0))
+    throw std::invalid_argument("SlidingWindowEstimator: max_keyframe_interval_s < 0");
   impl_->K = K;
   impl_->opt = options;
   if (options.loss == LossKind::kHuber)
@@ -1154,20 +1158,39 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(const FrameInput
                                                                 const FrameInput& b,
                                                                 const InertialState& state_b,
                                                                 int min_landmarks) {
+  return InitializeInertial(std::vector<FrameInput>{a, b},
+                            std::vector<InertialState>{state_a, state_b}, min_landmarks);
+}
+
+InitializationResult SlidingWindowEstimator::InitializeInertial(
+    const std::vector<FrameInput>& frames, const std::vector<InertialState>& states,
+    int min_landmarks) {
   Impl& m = *impl_;
   if (!m.opt.inertial) throw std::logic_error("InitializeInertial: not in the inertial mode");
-  auto imu = std::make_unique<ImuPreintegration>(m.Preintegrate(a.time, b.time, state_a.bias));
+  if (frames.size() != states.size() || frames.size() < 2 ||
+      static_cast<int>(frames.size()) > m.opt.window_size) {
+    throw std::invalid_argument("InitializeInertial: " + std::to_string(frames.size()) +
+                                " frames and " + std::to_string(states.size()) +
+                                " states (2 to window_size of each needed)");
+  }
+  std::vector<std::unique_ptr<ImuPreintegration>> imu;
+  for (std::size_t k = 1; k < frames.size(); ++k) {
+    imu.push_back(std::make_unique<ImuPreintegration>(
+        m.Preintegrate(frames[k - 1].time, frames[k].time, states[k - 1].bias)));
+  }
   m.Clear();
   const SE3d& T_b_c = m.opt.inertial->T_b_c;
-  m.keyframes.push_back(m.MakeFrame(a, state_a.T_w_b * T_b_c));
-  m.keyframes.push_back(m.MakeFrame(b, state_b.T_w_b * T_b_c));
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * T_b_c));
+    m.keyframes.back()->SetState(states[k]);
+    m.keyframes.back()->input.stationary =
+        frames[k].stationary && states[k].v_w.norm() < m.opt.inertial->stationary_max_speed;
+    if (k > 0) m.keyframes.back()->imu_from_previous = std::move(imu[k - 1]);
+  }
   Frame& fa = *m.keyframes.front();
-  fa.SetState(state_a);
   fa.state_prior = true;
   std::copy(fa.v, fa.v + 3, fa.v_prior);
   std::copy(fa.bias, fa.bias + 6, fa.bias_prior);
-  m.keyframes.back()->SetState(state_b);
-  m.keyframes.back()->imu_from_previous = std::move(imu);
   const InitializationResult result = m.StartWindow(min_landmarks);
   if (result.ok) m.PruneImu();
   return result;
@@ -1194,7 +1217,9 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   InertialState imu_state;
   if (m.opt.inertial) {
     imu_state = m.Predict(input.time, &imu);
-    if (input.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
+    result.stationary = input.stationary && m.keyframes.back()->State().v_w.norm() <
+                                                m.opt.inertial->stationary_max_speed;
+    if (result.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
       imu_state.T_w_b = m.keyframes.back()->State().T_w_b;
       imu_state.v_w.setZero();
     }
@@ -1203,6 +1228,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
                          : m.opt.inertial  ? imu_state.T_w_b * m.opt.inertial->T_b_c
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
+  frame->input.stationary = result.stationary;
   stage(WindowStage::kTracking);
   Impl::TrackResult track = m.Track(frame.get(), predicted);
   if (!track.ok && m.opt.pnp_fallback) {
@@ -1223,9 +1249,12 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   // Decide.
   result.parallax_px = m.Parallax(*frame);
   const int observed = static_cast<int>(frame->input.points.size() + frame->input.segments.size());
-  result.keyframe = track.ok && (result.parallax_px >= m.opt.keyframe_parallax_px ||
-                                 track.points + track.lines < m.opt.min_tracked ||
-                                 track.points + track.lines < m.opt.min_tracked_ratio * observed);
+  result.keyframe =
+      track.ok && (result.parallax_px >= m.opt.keyframe_parallax_px ||
+                   track.points + track.lines < m.opt.min_tracked ||
+                   track.points + track.lines < m.opt.min_tracked_ratio * observed ||
+                   (m.opt.max_keyframe_interval_s > 0.0 &&
+                    input.time - m.keyframes.back()->input.time >= m.opt.max_keyframe_interval_s));
   if (m.opt.inertial) {
     result.imu_only = !track.ok;
     result.keyframe = result.keyframe || input.time - m.keyframes.back()->input.time >=

@@ -98,6 +98,11 @@ struct InertialOptions {
   double stationary_position_sigma = 1e-3;  // m
   double stationary_rotation_sigma = 1e-4;  // rad
   double stationary_velocity_sigma = 1e-2;  // m/s
+  // The caller's flag is believed only while the newest keyframe's speed is below this: under
+  // forward motion most points lie far ahead and barely move in the image (the simulated
+  // corridor at 0.3-1 m/s: a median displacement under 3 px in 50 of 600 frames), which an image
+  // test alone takes for standing still.
+  double stationary_max_speed = 0.05;  // m/s
 };
 
 struct SlidingWindowOptions {
@@ -109,6 +114,10 @@ struct SlidingWindowOptions {
   double keyframe_parallax_px = 10.0;
   int min_tracked = 20;
   double min_tracked_ratio = 0.6;
+  // Also a keyframe when this much time has passed since the newest one (s; 0: off, the VO
+  // default). The vision-only window of the dynamic VIO initialisation sets it so that the IMU
+  // is preintegrated over short spans (the inertial mode has its own, InertialOptions).
+  double max_keyframe_interval_s = 0.0;
   // Robust loss on the reprojection residuals (pixels, whitened by the sigmas below).
   LossKind loss = LossKind::kHuber;
   double loss_scale = 1.5;  // in units of sigma
@@ -216,6 +225,7 @@ struct FrameResult {
   // solve (15 degrees of freedom; 0 for a non-keyframe).
   InertialState state;
   bool imu_only = false;
+  bool stationary = false;  // the caller's flag, believed (InertialOptions::stationary_max_speed)
   double imu_chi2 = 0.0;
 };
 
@@ -257,6 +267,12 @@ class SlidingWindowEstimator {
   void AddImu(const std::vector<sensor::ImuSample>& samples);
   InitializationResult InitializeInertial(const FrameInput& a, const InertialState& state_a,
                                           const FrameInput& b, const InertialState& state_b,
+                                          int min_landmarks = 0);
+  // The same with N >= 2 keyframes (oldest first; e.g. all those of a visual-inertial alignment):
+  // IMU factors between consecutive ones, the landmarks of every keyframe triangulated. Throws
+  // std::invalid_argument when the sizes differ or N < 2 (or N > window_size).
+  InitializationResult InitializeInertial(const std::vector<FrameInput>& frames,
+                                          const std::vector<InertialState>& states,
                                           int min_landmarks = 0);
   std::vector<InertialState> KeyframeStates() const;  // oldest first
 

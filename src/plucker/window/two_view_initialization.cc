@@ -1,6 +1,8 @@
 #include "plucker/window/two_view_initialization.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -12,7 +14,8 @@ namespace window {
 TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
                                 const std::vector<sensor::PointObservation>& a,
                                 const std::vector<sensor::PointObservation>& b,
-                                const TwoViewOptions& options) {
+                                const TwoViewOptions& options,
+                                const std::optional<Eigen::Matrix3d>& R_b_a_known) {
   TwoViewResult result;
   std::unordered_map<int, Eigen::Vector2d> uv_a;
   for (const auto& p : a)
@@ -52,6 +55,15 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
   Eigen::Vector3d t_b_a;
   cv::cv2eigen(R, R_b_a);
   cv::cv2eigen(t, t_b_a);
+  if (R_b_a_known) {
+    const Eigen::AngleAxisd diff(Eigen::Matrix3d(R_b_a_known->transpose() * R_b_a));
+    result.rotation_disagreement_deg = std::abs(diff.angle()) * 180.0 / M_PI;
+    if (!(result.rotation_disagreement_deg <= options.max_rotation_disagreement_deg)) {
+      result.message = "the rotation disagrees with the known one by " +
+                       std::to_string(result.rotation_disagreement_deg) + " deg";
+      return result;
+    }
+  }
   // Rotation-compensated parallax of the inliers.
   std::vector<double> parallax;
   for (std::size_t i = 0; i < xa.size(); ++i) {

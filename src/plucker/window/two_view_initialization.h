@@ -3,8 +3,17 @@
 // decomposition by the cheirality test, and a parallax test so that a pure rotation or a too-short
 // baseline is refused. The translation has unit norm: monocular scale is unobservable, the
 // estimator keeps this arbitrary scale.
+//
+// With a known relative rotation (visual-inertial: the gyroscope integrated between the two
+// frames), the essential matrix's rotation must agree with it. Under forward motion with a short
+// baseline the five-point solution can trade a translation for a rotation (the bas-relief
+// ambiguity: a sideways translation plus a turn explains the same flow); its wrong rotation then
+// also inflates the rotation-compensated parallax it is tested with (the simulated corridor: 4.2
+// deg off, 29 px "parallax" for 5 px true).
 #pragma once
 
+#include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +30,9 @@ struct TwoViewOptions {
   double min_parallax_px = 15.0;     // rotation-compensated median parallax of the inliers
   double ransac_threshold_px = 1.5;  // epipolar distance, pixels
   double min_inlier_ratio = 0.5;
+  // With a known rotation: the largest angle between it and the essential matrix's rotation
+  // (the caller includes what the known rotation's own error can be, e.g. an unknown gyro bias).
+  double max_rotation_disagreement_deg = 2.0;
 };
 
 struct TwoViewResult {
@@ -30,12 +42,15 @@ struct TwoViewResult {
   int common_tracks = 0;
   int inliers = 0;
   double parallax_px = 0.0;
+  double rotation_disagreement_deg = 0.0;  // against the known rotation (0 without one)
 };
 
+// R_b_a_known: the rotation of camera a in camera b from another sensor, or none.
 TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
                                 const std::vector<sensor::PointObservation>& a,
                                 const std::vector<sensor::PointObservation>& b,
-                                const TwoViewOptions& options = {});
+                                const TwoViewOptions& options = {},
+                                const std::optional<Eigen::Matrix3d>& R_b_a_known = std::nullopt);
 
 }  // namespace window
 }  // namespace plucker

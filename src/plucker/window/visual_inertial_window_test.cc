@@ -19,6 +19,7 @@
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/sim/camera_observations.h"
 #include "plucker/window/sliding_window_estimator.h"
+#include "plucker/window/two_view_initialization.h"
 
 namespace plucker {
 namespace window {
@@ -393,6 +394,148 @@ TEST(VisualInertialWindow, UncoveredFramesAreRefusedAndTheWindowGoesOn) {
   EXPECT_EQ(finite, static_cast<int>(in.size()) - 11);
   EXPECT_THROW(SlidingWindowEstimator(s.rig.K, SlidingWindowOptions()).AddImu(late),
                std::logic_error);
+}
+
+TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfEach) {
+  const sim::CameraSimulation s = Simulate(30, false, 3);
+  SlidingWindowOptions options;
+  options.inertial = InertialOptions();
+  options.inertial->T_b_c = s.rig.T_b_c;
+  options.inertial->gravity_w = s.imu_options.gravity_w;
+  std::vector<FrameInput> in(s.frame_times.size());
+  for (std::size_t i = 0; i < in.size(); ++i) in[i].time = s.frame_times[i];
+  for (const auto& p : s.points) in[p.frame].points.push_back(p);
+  const std::vector<int> kf = {0, 5, 10, 15, 20};
+  std::vector<FrameInput> frames;
+  std::vector<InertialState> states;
+  for (int f : kf) {
+    frames.push_back(in[f]);
+    states.push_back(TrueState(s, f));
+  }
+  // Perturbed starts (as an alignment gives them): the window's solve brings them back.
+  for (std::size_t k = 1; k < states.size(); ++k) {
+    states[k].T_w_b = SE3d(states[k].T_w_b.rotation(),
+                           states[k].T_w_b.translation() + Eigen::Vector3d(0.03, -0.02, 0.01));
+  }
+  SlidingWindowEstimator many(s.rig.K, options), two(s.rig.K, options);
+  many.AddImu(s.imu);
+  two.AddImu(s.imu);
+  const InitializationResult r = many.InitializeInertial(frames, states, 10);
+  ASSERT_TRUE(r.ok);
+  ASSERT_TRUE(two.InitializeInertial(in[0], TrueState(s, 0), in[20], TrueState(s, 20), 10).ok);
+  const std::vector<InertialState> solved = many.KeyframeStates();
+  ASSERT_EQ(solved.size(), kf.size());
+  double max_error = 0.0;
+  for (std::size_t k = 0; k < kf.size(); ++k) {
+    max_error = std::max(max_error,
+                         (solved[k].T_w_b.translation() - s.T_w_b_gt[kf[k]].translation()).norm());
+  }
+  std::printf("5-keyframe start: %d points (2 keyframes: %zu), max position error %.2e m\n",
+              r.points, two.Points().size(), max_error);
+  EXPECT_LT(max_error, 2e-3);  // noise-free: the 3.7 cm perturbations are removed
+  EXPECT_GT(r.points, static_cast<int>(two.Points().size()));  // tracks not seen by the newest
+  for (int i = 21; i < 30; ++i) {
+    const FrameResult fr = many.AddFrame(in[i]);
+    EXPECT_LT((fr.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 5e-3) << i;
+  }
+  EXPECT_THROW(many.InitializeInertial(frames, {states.front()}), std::invalid_argument);
+  options.window_size = 4;
+  SlidingWindowEstimator small(s.rig.K, options);
+  small.AddImu(s.imu);
+  EXPECT_THROW(small.InitializeInertial(frames, states), std::invalid_argument);
+}
+
+// The caller's "no image motion" flag: believed for a standing body (its pose held by the
+// zero-motion factors against an accelerometer offset), ignored for a moving one (forward motion
+// can look still in the image).
+TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenItMoves) {
+  const sim::CameraSimulation s = Simulate(16, true, 5);  // short: sanitizer budget
+  SlidingWindowOptions options;
+  options.inertial = InertialOptions();
+  options.inertial->T_b_c = s.rig.T_b_c;
+  options.inertial->gravity_w = s.imu_options.gravity_w;
+  {  // Standing: frame 0's view repeated, the IMU reading gravity plus a 0.05 m/s^2 offset.
+    InertialState still;
+    still.T_w_b = s.T_w_b_gt[0];
+    std::vector<sensor::ImuSample> imu;
+    for (int k = 0; k <= 500; ++k) {
+      sensor::ImuSample m;
+      m.t = 0.005 * k;
+      m.accel = still.T_w_b.RotationMatrix().transpose() * -s.imu_options.gravity_w +
+                Eigen::Vector3d(0.05, 0.0, 0.0);
+      imu.push_back(m);
+    }
+    std::vector<FrameInput> in(21);
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      in[i].time = 0.1 * static_cast<double>(i);
+      in[i].stationary = true;
+      for (const auto& p : s.points)
+        if (p.frame == 0) in[i].points.push_back(p);
+    }
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    estimator.AddImu(imu);
+    ASSERT_TRUE(estimator.InitializeInertial(in[0], still, in[1], still, 0).ok);
+    int held = 0;
+    double drift = 0.0;
+    for (std::size_t i = 2; i < in.size(); ++i) {
+      const FrameResult r = estimator.AddFrame(in[i]);
+      held += r.stationary;
+      drift = std::max(drift, (r.state.T_w_b.translation() - still.T_w_b.translation()).norm());
+    }
+    std::printf("standing body: %d of %zu frames held, drift %.2e m (the offset alone: %.3f m)\n",
+                held, in.size() - 2, drift, 0.5 * 0.05 * 2.0 * 2.0);
+    EXPECT_EQ(held, static_cast<int>(in.size()) - 2);
+    EXPECT_LT(drift, 2e-3);
+  }
+  {  // Moving, every frame flagged: the flags are ignored, the poses tracked.
+    std::vector<FrameInput> in(s.frame_times.size());
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      in[i].time = s.frame_times[i];
+      in[i].stationary = true;
+    }
+    for (const auto& p : s.points) in[p.frame].points.push_back(p);
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    estimator.AddImu(s.imu);
+    ASSERT_GT(s.v_w_gt[3].norm(), 5.0 * options.inertial->stationary_max_speed);
+    ASSERT_TRUE(estimator.InitializeInertial(in[0], TrueState(s, 0), in[3], TrueState(s, 3)).ok);
+    int held = 0, checked = 0;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const FrameResult r = estimator.AddFrame(in[i]);
+      held += r.stationary;
+      EXPECT_LT((r.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 0.1) << i;
+      ++checked;
+    }
+    EXPECT_EQ(held, 0);
+    EXPECT_EQ(checked, static_cast<int>(in.size()) - 4);
+  }
+}
+
+TEST(TwoViewInitialization, AKnownRotationRefusesADisagreeingEssentialMatrix) {
+  const sim::CameraSimulation s = Simulate(10, true, 4);
+  std::vector<std::vector<sensor::PointObservation>> points(s.frame_times.size());
+  for (const auto& p : s.points) points[p.frame].push_back(p);
+  const int a = 0, b = 8;
+  const SE3d T_w_ca = s.T_w_b_gt[a] * s.rig.T_b_c, T_w_cb = s.T_w_b_gt[b] * s.rig.T_b_c;
+  const Eigen::Matrix3d R_b_a = (T_w_cb.Inverse() * T_w_ca).RotationMatrix();
+  const TwoViewResult free = InitializeTwoView(s.rig.K, points[a], points[b]);
+  ASSERT_TRUE(free.ok) << free.message;
+  EXPECT_EQ(free.rotation_disagreement_deg, 0.0);
+  const TwoViewResult agree = InitializeTwoView(s.rig.K, points[a], points[b], {}, R_b_a);
+  ASSERT_TRUE(agree.ok) << agree.message;
+  std::printf("two-view rotation against the truth: %.3f deg (1 px noise, frames %d-%d)\n",
+              agree.rotation_disagreement_deg, a, b);
+  EXPECT_GT(agree.rotation_disagreement_deg, 0.0);
+  EXPECT_LT(agree.rotation_disagreement_deg, TwoViewOptions().max_rotation_disagreement_deg);
+  EXPECT_EQ(agree.T_b_a.translation(), free.T_b_a.translation());  // the check changes nothing
+  const Eigen::Matrix3d off =
+      Eigen::AngleAxisd(6.0 * M_PI / 180.0, Eigen::Vector3d(1, 2, 3).normalized()) * R_b_a;
+  const TwoViewResult refused = InitializeTwoView(s.rig.K, points[a], points[b], {}, off);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_GT(refused.rotation_disagreement_deg, 4.0);
+  EXPECT_NE(refused.message.find("disagrees"), std::string::npos) << refused.message;
+  TwoViewOptions loose;
+  loose.max_rotation_disagreement_deg = 9.0;
+  EXPECT_TRUE(InitializeTwoView(s.rig.K, points[a], points[b], loose, off).ok);
 }
 
 }  // namespace
