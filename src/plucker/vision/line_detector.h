@@ -57,7 +57,8 @@ struct LineDetectorOptions {
 
   // Sub-pixel refinement (edlines-refined).
   bool refine = false;
-  double refine_radius = 2.0;  // search across the segment up to this [px]
+  double refine_radius = 2.0;   // search across the segment up to this [px]
+  double refine_trim_px = 0.5;  // maxima further from the first fit are left out of the second
 
   // Endpoint extension (edlines-refined).
   bool extend = true;
