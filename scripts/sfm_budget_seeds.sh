@@ -8,7 +8,9 @@
 # two-sided sign test and the paired t statistic.
 #   scripts/sfm_budget_seeds.sh PLUCKER DATA_DIR OUT_DIR BUDGET "SEEDS" [REF_POSES...]
 # Environment: SFM_ARGS: more `plucker sfm` arguments for both runs (e.g. --refine-segments);
-# RESUME=1 keeps the runs already in OUT_DIR (a run is done when its poses.txt exists).
+# RESUME=1 keeps the runs already in OUT_DIR (a run is done when its poses.txt exists);
+# POINTS_ONLY_FROM=DIR links the points-only runs of DIR (an earlier OUT_DIR) instead of repeating
+# them: they do not depend on the line options (--refine-segments, --line-sigma).
 set -euo pipefail
 P="${1:?plucker binary}"
 D="${2:?data folder (strecha-fountain-p11)}"
@@ -22,6 +24,11 @@ for s in $SEEDS; do
   for v in points_lines points_only; do
     n="seed${s}_$v"
     if [ "${RESUME:-0}" = 1 ] && [ -f "$O/$n/poses.txt" ]; then continue; fi
+    if [ "$v" = points_only ] && [ -n "${POINTS_ONLY_FROM:-}" ]; then
+      rm -rf "${O:?}/$n"
+      ln -s "$(realpath "$POINTS_ONLY_FROM/$n")" "$O/$n"
+      continue
+    fi
     rm -rf "${O:?}/$n"
     extra=()
     [ "$v" = points_only ] && extra=(--no-lines)
@@ -69,5 +76,5 @@ for m, title in metrics:
         print(f"  mean lines {statistics.mean(lines):.4g}, points only {statistics.mean(points):.4g};"
               f" median {statistics.median(lines):.4g} / {statistics.median(points):.4g};"
               f" mean difference {statistics.mean(d):+.4g}; lines better on {wins} of {n}"
-              f" (sign test p = {sign_p(wins, n):.3f}); paired t = {t:+.2f} ({n - 1} dof)")
+              f" (sign test p = {sign_p(wins, n):.2g}); paired t = {t:+.2f} ({n - 1} dof)")
 PY
