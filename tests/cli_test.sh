@@ -401,6 +401,16 @@ if [ -f "$T/strecha_gt.txt" ]; then
     "$PLUCKER" eval sfm --gt "$STRECHA/.." --est "$T/sfm_gt_gap.txt" --json
   expect eval-sfm-wrong-count nonzero "sfm_gaps.txt: the estimate has 2 cameras, the ground truth 11" -- \
     "$PLUCKER" eval sfm --gt "$STRECHA" --est "$T/sfm_gaps.txt"
+  # Against a reference reconstruction (--ref): a camera the reference lacks is left out.
+  expect eval-sfm-ref 0 "registered 10.*against the reference.*median 0.00 mm" -- \
+    bash -c "'$PLUCKER' eval sfm --ref '$T/sfm_gt_gap.txt' --est '$T/strecha_gt.txt' | tr '\n' ' '"
+  expect eval-sfm-ref-wrong-count nonzero "sfm_gaps.txt: the estimate has 2 cameras, the reference" -- \
+    "$PLUCKER" eval sfm --ref "$T/strecha_gt.txt" --est "$T/sfm_gaps.txt"
+  expect sfm-gt-wrong-count nonzero "cameras: 11 cameras for [0-9]+ images" -- \
+    "$PLUCKER" sfm --images "$T/sfm_img" --intrinsics "$T/sfm_K.txt" --out "$T/sfm_out" \
+    --gt "$STRECHA" --quiet
+  expect eval-sfm-gt-and-ref nonzero "give exactly one of --gt, --ref" -- \
+    "$PLUCKER" eval sfm --gt "$STRECHA" --ref "$T/strecha_gt.txt" --est "$T/strecha_gt.txt"
 fi
 
 # Visual-inertial odometry on the camera simulation (dynamic initialisation), and its bad input:

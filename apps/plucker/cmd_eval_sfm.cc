@@ -2,12 +2,18 @@
 // rotation errors of a reconstruction (`plucker sfm` poses.txt, twelve `nan` for an unregistered
 // view) against Strecha ground-truth cameras (a folder of `*.camera` files in name order, or a
 // dataset folder with such a `cameras/` sub-folder), after alignment (eval/camera_set.h).
+// --ref poses.txt instead of --gt: against a reference reconstruction (KITTI T_w_c rows, e.g. one
+// made with every point, or COLMAP's), for the precision a run loses against it; a reference
+// camera that is nan is left out of the comparison.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "plucker/eval/camera_set.h"
@@ -23,17 +29,41 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EvalSfmArgs {
-  std::string gt, est, align = "sim3";
+  std::string gt, ref, est, align = "sim3";
   bool json = false;
 };
 
-int Run(const EvalSfmArgs& a) {
-  const std::string dir =
-      fs::is_directory(fs::path(a.gt) / "cameras") ? (fs::path(a.gt) / "cameras").string() : a.gt;
+// The cameras to compare against: Strecha .camera files (--gt) or a reference poses.txt (--ref).
+// A reference camera that is nan drops that camera from the estimate as well.
+std::vector<SE3d> ReadReference(const EvalSfmArgs& a, std::vector<std::optional<SE3d>>* est) {
   std::vector<SE3d> gt;
-  for (const std::string& file : io::ListStrechaCameraFiles(dir))
-    gt.push_back(io::ReadStrechaCamera(file).T_w_c);
-  const std::vector<std::optional<SE3d>> est = io::ReadKittiPosesWithGaps(a.est);
+  if (a.ref.empty()) {
+    const std::string dir =
+        fs::is_directory(fs::path(a.gt) / "cameras") ? (fs::path(a.gt) / "cameras").string() : a.gt;
+    for (const std::string& file : io::ListStrechaCameraFiles(dir))
+      gt.push_back(io::ReadStrechaCamera(file).T_w_c);
+    return gt;
+  }
+  const std::vector<std::optional<SE3d>> ref = io::ReadKittiPosesWithGaps(a.ref);
+  if (ref.size() != est->size()) {
+    throw io::IoError(a.est, "the estimate has " + std::to_string(est->size()) +
+                                 " cameras, the reference " + a.ref + " " +
+                                 std::to_string(ref.size()));
+  }
+  std::vector<std::optional<SE3d>> kept;
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    if (!ref[i]) continue;
+    gt.push_back(*ref[i]);
+    kept.push_back((*est)[i]);
+  }
+  *est = kept;
+  return gt;
+}
+
+int Run(const EvalSfmArgs& a) {
+  if (a.gt.empty() == a.ref.empty()) throw std::invalid_argument("give exactly one of --gt, --ref");
+  std::vector<std::optional<SE3d>> est = io::ReadKittiPosesWithGaps(a.est);
+  const std::vector<SE3d> gt = ReadReference(a, &est);
   const eval::AlignmentMode mode =
       a.align == "se3" ? eval::AlignmentMode::kSE3 : eval::AlignmentMode::kSim3;
   const eval::CameraSetErrors e = eval::CompareCameraSets(est, gt, mode);
@@ -43,6 +73,7 @@ int Run(const EvalSfmArgs& a) {
                               {"registered", e.registered},
                               {"missing", e.missing},
                               {"align", a.align},
+                              {"reference", a.ref.empty() ? "gt" : a.ref},
                               {"scale", e.scale},
                               {"median_centre_mm", 1e3 * e.median_centre},
                               {"max_centre_mm", 1e3 * e.max_centre},
@@ -55,8 +86,8 @@ int Run(const EvalSfmArgs& a) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  std::printf("cameras %d, registered %d (alignment %s, scale %.6g)\n", e.cameras, e.registered,
-              a.align.c_str(), e.scale);
+  std::printf("cameras %d, registered %d (alignment %s, scale %.6g%s)\n", e.cameras, e.registered,
+              a.align.c_str(), e.scale, a.ref.empty() ? "" : ", against the reference");
   std::printf("centre error   median %.2f mm, max %.2f mm\n", 1e3 * e.median_centre,
               1e3 * e.max_centre);
   std::printf(
@@ -73,7 +104,10 @@ void RegisterEvalSfm(CLI::App& eval_cmd, int* exit_code) {
   auto a = std::make_shared<EvalSfmArgs>();
   CLI::App* cmd = eval_cmd.add_subcommand(
       "sfm", "Camera centre and rotation errors of `plucker sfm` poses against Strecha cameras");
-  cmd->add_option("--gt", a->gt, "Folder of Strecha *.camera files (or its parent)")->required();
+  cmd->add_option("--gt", a->gt, "Folder of Strecha *.camera files (or its parent)");
+  cmd->add_option("--ref", a->ref,
+                  "Instead of --gt: a reference poses.txt (KITTI T_w_c rows, nan: left out), "
+                  "e.g. a reconstruction with every point");
   cmd->add_option("--est", a->est, "poses.txt of `plucker sfm` (KITTI; nan rows: unregistered)")
       ->required();
   cmd->add_option("--align", a->align, "sim3 or se3")

@@ -5,6 +5,9 @@
 //   OUTDIR/points.ply   3D points;  OUTDIR/lines.ply  3D segments (vertex pairs + edges)
 //   OUTDIR/report.json  views, registration status, tracks, reprojection errors, time per stage
 //   OUTDIR/overlay_<image>.png  detected (blue), matched (green) and reprojected (red) segments
+// With --gt (Strecha cameras) report.json also holds the track quality against the ground truth:
+// every final point and line track triangulated from the ground-truth cameras, and the share that
+// reprojects within 1 and 2 px of all its observations (eval/line_tracks.h for the lines).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -21,7 +24,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
+#include "plucker/eval/line_tracks.h"
 #include "plucker/geometry/point_projection.h"
+#include "plucker/geometry/point_triangulation.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
@@ -39,8 +44,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct SfmArgs {
-  std::string images, intrinsics, calib, sensor, out;
+  std::string images, intrinsics, calib, sensor, out, gt;
   bool no_lines = false;
+  bool refine_segments = false;
   int max_points = 0;
   int detect_size = 1536;
   int max_keypoints = 8000;
@@ -176,6 +182,62 @@ Loaded LoadImages(const std::string& dir) {
   return l;
 }
 
+// Track quality against ground-truth cameras (--gt): each final track triangulated from them;
+// the share of tracks whose largest reprojection error (point: pixel distance; line: endpoint to
+// the reprojected line) is within 1 and within 2 px. Lines whose viewing planes are nearly
+// parallel cannot be judged that way (eval/line_tracks.h) and are counted apart.
+nlohmann::json GroundTruthTrackQuality(const PinholeIntrinsics& K, const std::vector<SE3d>& gt,
+                                       const std::vector<sfm::ViewFeatures>& views,
+                                       const sfm::SfmResult& r) {
+  int points = 0, points_1px = 0, points_2px = 0;
+  for (const sfm::SfmPoint& p : r.points) {
+    std::vector<SE3d> poses;
+    std::vector<Eigen::Vector2d> uv;
+    for (const auto& [v, k] : p.observations) {
+      poses.push_back(gt[v]);
+      uv.push_back(views[v].keypoints[k]);
+    }
+    PointTriangulationOptions o;
+    o.min_parallax_deg = 0.0;
+    const PointTriangulationResult t = TriangulatePoint(K, poses, uv, o);
+    if (!t.ok()) continue;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const std::optional<Eigen::Vector2d> q = ProjectPoint(K, poses[i], t.p_w);
+      worst = std::max(worst, q ? (*q - uv[i]).norm() : 1e9);
+    }
+    ++points;
+    points_1px += worst <= 1.0;
+    points_2px += worst <= 2.0;
+  }
+  std::vector<sensor::SegmentObservation> observations;
+  for (std::size_t l = 0; l < r.lines.size(); ++l) {
+    for (const auto& [v, k] : r.lines[l].observations) {
+      const vision::Segment2d& s = views[v].lines.segments[k];
+      observations.push_back({v, static_cast<int>(l), s.head<2>(), s.tail<2>()});
+    }
+  }
+  eval::LineTrackQualityOptions lo;
+  lo.min_views = 2;
+  const eval::LineTrackQuality q = eval::EvaluateLineTracks(K, gt, observations, lo);
+  int lines = 0, lines_1px = 0, lines_2px = 0;
+  for (const eval::LineTrackResult& t : q.results) {
+    if (t.verdict != eval::TrackVerdict::kCorrect && t.verdict != eval::TrackVerdict::kWrong)
+      continue;
+    ++lines;
+    lines_1px += t.max_error_px <= 1.0;
+    lines_2px += t.max_error_px <= 2.0;
+  }
+  const auto share = [](int k, int n) { return n > 0 ? static_cast<double>(k) / n : 0.0; };
+  return {{"points_judged", points},
+          {"points_within_1px", share(points_1px, points)},
+          {"points_within_2px", share(points_2px, points)},
+          {"lines_judged", lines},
+          {"lines_unconstrained", q.unconstrained},
+          {"lines_within_1px", share(lines_1px, lines)},
+          {"lines_within_2px", share(lines_2px, lines)}};
+}
+
 int Run(const SfmArgs& a) {
   const double t_start = WallMs();
   const auto say = [&](const std::string& m) {
@@ -189,6 +251,17 @@ int Run(const SfmArgs& a) {
   Calibration calib = ReadCalibration(a, in.size.width, in.size.height);
   const PinholeIntrinsics K =
       calib.undistorter ? calib.undistorter->ideal_camera().K : calib.camera.K;
+  std::vector<SE3d> gt;  // --gt: read first, so that a bad folder fails before the work
+  if (!a.gt.empty()) {
+    const std::string dir =
+        fs::is_directory(fs::path(a.gt) / "cameras") ? (fs::path(a.gt) / "cameras").string() : a.gt;
+    for (const std::string& file : io::ListStrechaCameraFiles(dir))
+      gt.push_back(io::ReadStrechaCamera(file).T_w_c);
+    if (gt.size() != in.files.size()) {
+      throw io::IoError(dir, std::to_string(gt.size()) + " cameras for " +
+                                 std::to_string(in.files.size()) + " images");
+    }
+  }
   const double read_ms = WallMs() - t_start;
 
   // Features.
@@ -196,6 +269,7 @@ int Run(const SfmArgs& a) {
   fo.detection_max_side = a.detect_size;
   fo.max_keypoints = a.max_keypoints;
   fo.detect_lines = !a.no_lines;
+  fo.line_detector.refine = a.refine_segments;
   const int n = static_cast<int>(in.files.size());
   std::vector<sfm::ViewFeatures> views(n);
   const double t_features = WallMs();
@@ -272,33 +346,35 @@ int Run(const SfmArgs& a) {
   stages["write"] = write_ms;
   stages["total"] = total_ms;
   const sfm::SfmStatistics& st = r.stats;
-  const nlohmann::json report = {{"command", kMarker},
-                                 {"images", a.images},
-                                 {"lines", !a.no_lines},
-                                 {"max_points", a.max_points},
-                                 {"point_seed", a.point_seed},
-                                 {"detect_size", a.detect_size},
-                                 {"line_sigma_px", a.line_sigma},
-                                 {"views", st.views},
-                                 {"registered", st.registered},
-                                 {"unregistered", unregistered},
-                                 {"skipped", in.skipped},
-                                 {"verified_pairs", st.verified_pairs},
-                                 {"initial_pair", {st.init_a, st.init_b}},
-                                 {"point_tracks", st.point_tracks},
-                                 {"points", st.points},
-                                 {"lines_3d", st.lines},
-                                 {"point_observations", st.point_observations},
-                                 {"line_observations", st.line_observations},
-                                 {"mean_point_error_px", st.mean_point_error_px},
-                                 {"mean_line_error_px", st.mean_line_error_px},
-                                 {"rejected_point_observations", st.rejected_point_observations},
-                                 {"rejected_line_observations", st.rejected_line_observations},
-                                 {"adjustments", st.adjustments},
-                                 {"line_refined_registrations", st.line_refined_registrations},
-                                 {"overlays", overlays},
-                                 {"time_ms", stages},
-                                 {"per_view", per_view}};
+  nlohmann::json report = {{"command", kMarker},
+                           {"images", a.images},
+                           {"lines", !a.no_lines},
+                           {"max_points", a.max_points},
+                           {"point_seed", a.point_seed},
+                           {"detect_size", a.detect_size},
+                           {"line_sigma_px", a.line_sigma},
+                           {"refine_segments", a.refine_segments},
+                           {"views", st.views},
+                           {"registered", st.registered},
+                           {"unregistered", unregistered},
+                           {"skipped", in.skipped},
+                           {"verified_pairs", st.verified_pairs},
+                           {"initial_pair", {st.init_a, st.init_b}},
+                           {"point_tracks", st.point_tracks},
+                           {"points", st.points},
+                           {"lines_3d", st.lines},
+                           {"point_observations", st.point_observations},
+                           {"line_observations", st.line_observations},
+                           {"mean_point_error_px", st.mean_point_error_px},
+                           {"mean_line_error_px", st.mean_line_error_px},
+                           {"rejected_point_observations", st.rejected_point_observations},
+                           {"rejected_line_observations", st.rejected_line_observations},
+                           {"adjustments", st.adjustments},
+                           {"line_refined_registrations", st.line_refined_registrations},
+                           {"overlays", overlays},
+                           {"time_ms", stages},
+                           {"per_view", per_view}};
+  if (!gt.empty()) report["ground_truth_tracks"] = GroundTruthTrackQuality(K, gt, views, r);
   io::WriteFileAtomically((fs::path(a.out) / "report.json").string(), report.dump(2) + "\n");
 
   if (!a.quiet) {
@@ -310,6 +386,14 @@ int Run(const SfmArgs& a) {
     std::printf("%-28s %d\n", "lines", st.lines);
     std::printf("%-28s %.3f px\n", "point reprojection error", st.mean_point_error_px);
     std::printf("%-28s %.3f px\n", "line reprojection error", st.mean_line_error_px);
+    if (report.contains("ground_truth_tracks")) {
+      const nlohmann::json& g = report["ground_truth_tracks"];
+      std::printf("%-28s points %.1f %% / %.1f %%, lines %.1f %% / %.1f %% (%d judged)\n",
+                  "gt tracks within 1 / 2 px", 100.0 * g["points_within_1px"].get<double>(),
+                  100.0 * g["points_within_2px"].get<double>(),
+                  100.0 * g["lines_within_1px"].get<double>(),
+                  100.0 * g["lines_within_2px"].get<double>(), g["lines_judged"].get<int>());
+    }
     for (const auto& [k, v] : stages.items())
       std::printf("time %-23s %.1f s\n", k.c_str(), v.get<double>() / 1e3);
     std::printf("output in %s\n", a.out.c_str());
@@ -331,6 +415,11 @@ void RegisterSfm(CLI::App& app, int* exit_code) {
   cmd->add_option("--sensor", a->sensor, "EuRoC sensor.yaml (images are undistorted first)");
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->add_flag("--no-lines", a->no_lines, "Points only");
+  cmd->add_flag("--refine-segments", a->refine_segments,
+                "Re-fit each segment to the sub-pixel gradient maxima across it");
+  cmd->add_option("--gt", a->gt,
+                  "Strecha cameras (folder of *.camera, or its parent): report the share of "
+                  "tracks that reproject within 1 / 2 px from the ground-truth cameras");
   cmd->add_option("--max-points", a->max_points, "Use at most N point tracks (0: all)")
       ->capture_default_str();
   cmd->add_option("--point-seed", a->point_seed,

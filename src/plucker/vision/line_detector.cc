@@ -131,18 +131,32 @@ bool Refine(const Gradient& g, const LineDetectorOptions& o, Segment2d* s) {
     points.emplace_back(q.x(), q.y(), c);
   }
   if (points.size() < 4 || points.size() < 0.5 * samples) return false;
-  // Weighted total least squares line through the maxima.
-  double w = 0.0;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p.z() * p.head<2>(), w += p.z();
-  mean /= w;
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector2d d = p.head<2>() - mean;
-    scatter += p.z() * d * d.transpose();
+  // Weighted total least squares line through the maxima, fitted twice: the second time without
+  // the maxima further than refine_trim_px from the first line (a neighbouring edge within the
+  // search radius, a corner at an end).
+  Eigen::Vector2d mean, t;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      const Eigen::Vector2d normal(-t.y(), t.x());
+      points.erase(std::remove_if(points.begin(), points.end(),
+                                  [&](const Eigen::Vector3d& p) {
+                                    return std::abs((p.head<2>() - mean).dot(normal)) >
+                                           o.refine_trim_px;
+                                  }),
+                   points.end());
+      if (points.size() < 4 || points.size() < 0.5 * samples) return false;
+    }
+    double w = 0.0;
+    mean.setZero();
+    for (const Eigen::Vector3d& p : points) mean += p.z() * p.head<2>(), w += p.z();
+    mean /= w;
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector2d d = p.head<2>() - mean;
+      scatter += p.z() * d * d.transpose();
+    }
+    t = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-  Eigen::Vector2d t = eig.eigenvectors().col(1);
   if (t.dot(f.t) < 0.0) t = -t;
   if (t.dot(f.t) < std::cos(5.0 * kPi / 180.0)) return false;  // not the same edge
   const Eigen::Vector2d a = mean + (s->head<2>() - mean).dot(t) * t;

@@ -8,8 +8,10 @@
 //      one pixel across) is strong and perpendicular to the segment, i.e. the gradient-orientation
 //      agreement behind LSD's validation; segments with too little support are dropped
 //      (precision back),
-//   2. optional refinement: a re-fit to the sub-pixel gradient maxima across the segment (off by
-//      default: +0.001 F at 2 px on York Urban, not worth its time),
+//   2. optional refinement: a re-fit to the sub-pixel gradient maxima across the segment, a second
+//      fit without the maxima far from the first (off by default: +0.001 F at 2 px on York
+//      Urban, not worth its time; on Strecha fountain-P11 it lowers the line residuals of
+//      `plucker sfm --refine-segments` but not the camera error, README),
 //   3. extension: each endpoint is pushed along the segment while the edge continues.
 // Thresholds were tuned on the even-indexed York Urban images and checked on the odd ones
 // (README, `plucker bench lines`).
@@ -57,7 +59,8 @@ struct LineDetectorOptions {
 
   // Sub-pixel refinement (edlines-refined).
   bool refine = false;
-  double refine_radius = 2.0;  // search across the segment up to this [px]
+  double refine_radius = 2.0;   // search across the segment up to this [px]
+  double refine_trim_px = 0.5;  // maxima further from the first fit are left out of the second
 
   // Endpoint extension (edlines-refined).
   bool extend = true;
