@@ -119,7 +119,16 @@ struct SlidingWindowOptions {
   int max_iterations = 10;          // window solve
   int max_tracking_iterations = 8;  // motion-only pose refinement
   bool use_lines = true;
-  bool keep_marginalized_lines = true;   // false: drop the marginalized keyframe's lines
+  bool keep_marginalized_lines = true;  // false: drop the marginalized keyframe's lines
+  // k0's observations of the lines that stay in the window (kLandmarks prior, not in the
+  // inertial mode): in the prior (false), linearised at the lines' estimates of that moment with
+  // first-estimate Jacobians there, or kept as they are with k0's pose, which stays in the state
+  // (a block of the prior, without its keyframe) until those lines leave (true). Lines are young
+  // when k0 leaves: in the prior they moved on average 0.14 rad (tangent) from that point (points:
+  // 2.5 % of their depth), so its linear model of them degrades over a run (docs/vo.md).
+  bool retain_line_observer_poses = false;
+  // At most this many retained poses; beyond, the oldest is marginalized with its observations.
+  int max_retained_poses = 10;
   bool first_estimate_jacobians = true;  // false: relinearise everything (VINS-Mono)
   // FEJ on the landmarks (points and lines) of the prior too: the prior lives on the landmarks k0
   // observed, the poses enter it only through them. Off, the prior gains spurious information
@@ -206,6 +215,7 @@ struct FrameResult {
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
   int dropped_line_observations = 0;   // keep_marginalized_lines = false
+  int held_line_observations = 0;      // k0's line observations kept at its pose (this frame)
   int dropped_point_observations = 0;  // PriorBlocks::kPoses: k0's observations of live tracks
   int prior_rank = 0;
   bool marginalization_failed = false;  // the prior was reset (Build threw)
