@@ -30,8 +30,10 @@
 // Marginalization (oldest keyframe k0): the residuals touching k0 (its point and line
 // observations, its pose prior, the previous prior) are linearised and the Schur complement
 // removes k0 and every landmark that no remaining keyframe observes; landmarks still observed keep
-// the information of k0's observations in the prior (lines included; `keep_marginalized_lines =
-// false` drops k0's line observations instead, what PL-VIO does). First-estimate Jacobians: every
+// the information of k0's observations in the prior, except k0's observations of lines that stay:
+// those stay as they are, with k0's pose retained in the state until the lines leave
+// (retain_line_observer_poses; `keep_marginalized_lines = false` drops k0's line observations
+// instead, what PL-VIO does). First-estimate Jacobians: every
 // factor touching a block of the prior evaluates its Jacobian at the prior's linearisation point
 // of that block (the residual at the current value), and a block already in the prior enters the
 // next marginalization at that same point, so the prior does not gain information along the
@@ -121,13 +123,16 @@ struct SlidingWindowOptions {
   bool use_lines = true;
   bool keep_marginalized_lines = true;  // false: drop the marginalized keyframe's lines
   // k0's observations of the lines that stay in the window (kLandmarks prior, not in the
-  // inertial mode): in the prior (false), linearised at the lines' estimates of that moment with
-  // first-estimate Jacobians there, or kept as they are with k0's pose, which stays in the state
-  // (a block of the prior, without its keyframe) until those lines leave (true). Lines are young
-  // when k0 leaves: in the prior they moved on average 0.14 rad (tangent) from that point (points:
-  // 2.5 % of their depth), so its linear model of them degrades over a run (docs/vo.md).
-  bool retain_line_observer_poses = false;
-  // At most this many retained poses; beyond, the oldest is marginalized with its observations.
+  // inertial mode): kept as they are with k0's pose, which stays in the state (a block of the
+  // prior, first-estimate Jacobians like the others, without its keyframe) until those lines leave
+  // or max_retained_poses is exceeded (true), or put in the prior at once (false). Lines are young
+  // when k0 leaves: in the prior they then moved on average 0.14 rad (tangent) away from their
+  // linearisation point (points: 2.5 % of their depth), so the prior's linear model of them
+  // degraded over a run and kept lost to dropped; relinearising them instead made the prior
+  // inconsistent (worse). Measured: docs/vo.md.
+  bool retain_line_observer_poses = true;
+  // At most this many retained poses; beyond, the oldest is marginalized with its observations
+  // (its lines enter the prior then, at their estimates of that moment).
   int max_retained_poses = 10;
   bool first_estimate_jacobians = true;  // false: relinearise everything (VINS-Mono)
   // FEJ on the landmarks (points and lines) of the prior too: the prior lives on the landmarks k0
