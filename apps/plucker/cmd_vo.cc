@@ -252,6 +252,7 @@ nlohmann::json FrameJson(const window::FrameResult& r, const nlohmann::json& tim
           {"marginalized_landmarks", r.marginalized_landmarks},
           {"dropped_point_observations", r.dropped_point_observations},
           {"dropped_line_observations", r.dropped_line_observations},
+          {"held_line_observations", r.held_line_observations},
           {"prior_rank", r.prior_rank},
           {"marginalization_failed", r.marginalization_failed},
           {"ms", times}};
@@ -334,6 +335,7 @@ void WriteJson(const VoRun& run, double read_ms, double total_ms) {
       {"failed_marginalizations", run.failed_marginalizations},
       {"use_lines", run.config.window.use_lines},
       {"keep_marginalized_lines", run.config.window.keep_marginalized_lines},
+      {"retain_line_observer_poses", run.config.window.retain_line_observer_poses},
       {"prior_on_poses_only",
        run.config.window.prior_blocks == window::SlidingWindowOptions::PriorBlocks::kPoses},
       {"point_stride", run.args.point_stride},

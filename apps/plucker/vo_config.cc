@@ -72,6 +72,11 @@ const std::vector<Row>& Table() {
                   [](VoConfig& c) -> bool& { return c.window.use_lines; }),
       Value<bool>("window.keep_marginalized_lines", "keep k0's line information", false, true,
                   [](VoConfig& c) -> bool& { return c.window.keep_marginalized_lines; }),
+      Value<bool>("window.retain_line_observer_poses",
+                  "k0's pose kept while lines that stay have observations from it (false: those in "
+                  "the prior)",
+                  false, true,
+                  [](VoConfig& c) -> bool& { return c.window.retain_line_observer_poses; }),
       Value<bool>("window.first_estimate_jacobians", "FEJ on the prior's blocks", false, true,
                   [](VoConfig& c) -> bool& { return c.window.first_estimate_jacobians; }),
       Value<bool>("window.condition_far_lines", "lines in their anchor frame", false, true,

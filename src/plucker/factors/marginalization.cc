@@ -324,9 +324,12 @@ MarginalizationPrior MarginalizationPrior::Build(
   prior.stats_.marginalized_dimension = m;
   prior.stats_.kept_dimension = k;
   if (k == 0) return prior;  // everything marginalized: an empty prior (rank 0)
-  const Spectrum mm = PositivePart(H.topLeftCorner(m, m), options.eigenvalue_floor);
-  const Eigen::MatrixXd H_mm_inv =
-      mm.vectors * mm.values.cwiseInverse().asDiagonal() * mm.vectors.transpose();
+  // Nothing marginalized (m = 0): the prior is the linearisation of the residuals itself.
+  Eigen::MatrixXd H_mm_inv = Eigen::MatrixXd::Zero(m, m);
+  if (m > 0) {
+    const Spectrum mm = PositivePart(H.topLeftCorner(m, m), options.eigenvalue_floor);
+    H_mm_inv = mm.vectors * mm.values.cwiseInverse().asDiagonal() * mm.vectors.transpose();
+  }
   const Eigen::MatrixXd H_km = H.bottomLeftCorner(k, m);
   const Eigen::MatrixXd H_star = H.bottomRightCorner(k, k) - H_km * H_mm_inv * H_km.transpose();
   const Eigen::VectorXd g_star = g.tail(k) - H_km * (H_mm_inv * g.head(m));

@@ -164,6 +164,26 @@ TEST(MarginalizationPrior, MatchesTheBatchSolutionOnALinearGaussianChain) {
   }
 }
 
+// Nothing marginalized (the window keeps a leaving keyframe's pose for its line observations):
+// the prior is the linearisation itself, H* = J^T J and g* = J^T r on the blocks (this used to
+// crash on the empty eigen-decomposition).
+TEST(MarginalizationPrior, NothingMarginalizedKeepsTheLinearisation) {
+  Eigen::MatrixXd A(3, 4);
+  A << 1, 2, 0, -1, 0, 1, 3, 1, 2, 0, 1, 1;
+  const Eigen::Vector3d c(0.5, -1.0, 2.0);
+  LinearCost cost(A, c, 2);
+  double a[2] = {0.3, -0.2}, b[2] = {1.0, 2.0};
+  const MarginalizationPrior prior = MarginalizationPrior::Build({{a, 2, nullptr}, {b, 2, nullptr}},
+                                                                 {{&cost, nullptr, {a, b}}}, {});
+  ASSERT_EQ(prior.KeptBlocks().size(), 2u);
+  EXPECT_EQ(prior.Statistics().marginalized_dimension, 0);
+  EXPECT_EQ(prior.Statistics().prior_rank, 3);
+  const Eigen::Vector4d x(a[0], a[1], b[0], b[1]);
+  const Eigen::Vector3d r = A * x - c;
+  EXPECT_LT((prior.Information() - A.transpose() * A).norm(), 1e-9);
+  EXPECT_LT((prior.Gradient() - A.transpose() * r).norm(), 1e-9);
+}
+
 // Lines seen by the removed camera keep their information in the prior (PL-VIO drops them).
 TEST(MarginalizationPrior, KeepsTheInformationOfLinesSeenByTheRemovedCamera) {
   verify::Rng rng(9);

@@ -154,6 +154,13 @@ struct LineLandmark {
   double block[6];
 };
 
+// The pose of a marginalized keyframe kept in the state (a block of the prior, FEJ like the
+// others) while lines that stay in the window have observations from it, and those observations.
+struct RetainedPose {
+  double pose[7];
+  std::vector<sensor::SegmentObservation> segments;
+};
+
 // One residual of the window: its cost, whether the robust loss applies, and its blocks.
 struct ResidualSpec {
   std::unique_ptr<ceres::CostFunction> cost;
@@ -195,6 +202,7 @@ struct SlidingWindowEstimator::Impl {
   SE3d last_T_w_c, prev_T_w_c;
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
   std::set<int> retired_points, retired_lines;
+  std::vector<std::unique_ptr<RetainedPose>> retained;  // oldest first
   int frames_seen = 0;
   int next_index = 0;
   std::vector<sensor::ImuSample> imu;  // inertial mode: from just before the newest keyframe
@@ -382,7 +390,64 @@ struct SlidingWindowEstimator::Impl {
     }
   }
 
+  bool RetainLinePoses() const {
+    return opt.use_lines && opt.keep_marginalized_lines && opt.retain_line_observer_poses &&
+           !opt.inertial && opt.prior_blocks == SlidingWindowOptions::PriorBlocks::kLandmarks;
+  }
+
+  // The observations of the retained poses whose line exists (and, when `only` is given, is in
+  // it), as residuals on (retained pose, line).
+  void AppendRetainedResiduals(std::vector<ResidualSpec>* out, const std::set<int>* only = nullptr,
+                               const RetainedPose* from = nullptr) const {
+    for (const auto& rp : retained) {
+      if (from && rp.get() != from) continue;
+      for (const sensor::SegmentObservation& seg : rp->segments) {
+        const auto it = lines.find(seg.line_id);
+        if (it == lines.end() || (only && !only->count(seg.line_id))) continue;
+        ResidualSpec r;
+        r.cost.reset(LineCost(seg, it->second->anchor));
+        r.blocks = {rp->pose, it->second->block};
+        r.is_point = false;
+        out->push_back(std::move(r));
+      }
+    }
+  }
+
+  // Drops the retained observations whose line is gone (or, with `cull`, whose residual exceeds
+  // the outlier threshold), then the retained poses left with none that are not in the prior
+  // (those in it leave at the next marginalization). Returns the observations culled.
+  int PruneRetained(bool cull) {
+    int culled = 0;
+    for (auto& rp : retained) {
+      std::vector<sensor::SegmentObservation> keep;
+      for (const sensor::SegmentObservation& seg : rp->segments) {
+        const auto it = lines.find(seg.line_id);
+        if (it == lines.end()) continue;
+        if (cull) {
+          std::unique_ptr<ceres::CostFunction> cost(LineCost(seg, it->second->anchor));
+          double res[2];
+          const double* params[2] = {rp->pose, it->second->block};
+          if (!cost->Evaluate(params, res, nullptr) || !std::isfinite(res[0]) ||
+              !std::isfinite(res[1]) || std::hypot(res[0], res[1]) > opt.outlier_sigmas) {
+            ++culled;
+            continue;
+          }
+        }
+        keep.push_back(seg);
+      }
+      rp->segments.swap(keep);
+    }
+    retained.erase(std::remove_if(retained.begin(), retained.end(),
+                                  [this](const std::unique_ptr<RetainedPose>& rp) {
+                                    return rp->segments.empty() && !InPrior(rp->pose);
+                                  }),
+                   retained.end());
+    return culled;
+  }
+
   BlockKind KindOf(const double* block) const {
+    for (const auto& rp : retained)
+      if (rp->pose == block) return BlockKind::kPose;
     for (const auto& f : keyframes) {
       if (f->pose == block) return BlockKind::kPose;
       if (f->v == block) return BlockKind::kVelocity;
@@ -638,6 +703,7 @@ struct SlidingWindowEstimator::Impl {
     if (opt.inertial) {
       for (std::size_t k = 0; k < keyframes.size(); ++k) AppendInertialResiduals(k, &residuals);
     }
+    AppendRetainedResiduals(&residuals);
     int n = 0;
     for (ResidualSpec& r : residuals) {
       if (r.frame != nullptr) {
@@ -662,6 +728,9 @@ struct SlidingWindowEstimator::Impl {
     }
     for (auto& f : keyframes) {
       if (problem->HasParameterBlock(f->pose)) problem->SetManifold(f->pose, &pose_manifold);
+    }
+    for (auto& rp : retained) {
+      if (problem->HasParameterBlock(rp->pose)) problem->SetManifold(rp->pose, &pose_manifold);
     }
     for (auto& [id, l] : lines) {
       if (problem->HasParameterBlock(l->block)) problem->SetManifold(l->block, &line_manifold);
@@ -698,6 +767,7 @@ struct SlidingWindowEstimator::Impl {
     std::vector<ResidualSpec> check;
     for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &check);
     result->culled_observations = CullOutliers(check);
+    result->culled_observations += PruneRetained(true);
     RemoveWeakLandmarks();
   }
 
@@ -710,6 +780,8 @@ struct SlidingWindowEstimator::Impl {
       for (std::size_t i = 0; i < f->input.segments.size(); ++i)
         if (!f->segment_outlier[i]) ++line_count[f->input.segments[i].line_id];
     }
+    for (const auto& rp : retained)
+      for (const auto& seg : rp->segments) ++line_count[seg.line_id];
     for (auto it = points.begin(); it != points.end();) {
       if (point_count[it->first] < 2 && !InPrior(it->second->p)) {
         it = points.erase(it);
@@ -724,6 +796,7 @@ struct SlidingWindowEstimator::Impl {
         ++it;
       }
     }
+    PruneRetained(false);
   }
 
   // --- marginalization -------------------------------------------------------------------------
@@ -740,6 +813,46 @@ struct SlidingWindowEstimator::Impl {
     }
     std::vector<ResidualSpec> residuals;
     AppendFrameResiduals(f0, true, opt.use_lines && opt.keep_marginalized_lines, &residuals);
+    // Retained poses: k0's observations of the lines that stay are kept as they are, and k0's
+    // pose with them (not eliminated); the retained observations of the lines that leave now
+    // join the marginalization, and a retained pose left without observations leaves with them.
+    std::unique_ptr<RetainedPose> k0_retained;
+    std::set<int> lines_leaving;
+    std::vector<const RetainedPose*> retained_out;  // retained poses that leave now
+    if (RetainLinePoses()) {
+      std::vector<ResidualSpec> rest;
+      for (ResidualSpec& r : residuals) {
+        const bool kept_line = !r.is_point && r.frame == f0 &&
+                               lines_kept.count(f0->input.segments[r.observation].line_id);
+        if (!kept_line) {
+          rest.push_back(std::move(r));
+          continue;
+        }
+        if (!k0_retained) k0_retained = std::make_unique<RetainedPose>();
+        k0_retained->segments.push_back(f0->input.segments[r.observation]);
+        ++result->held_line_observations;
+      }
+      residuals.swap(rest);
+      for (const auto& [id, l] : lines)
+        if (!lines_kept.count(id)) lines_leaving.insert(id);
+      // A retained pose leaves when it observes no line that stays, or, beyond
+      // max_retained_poses, the oldest leave with all their observations: the lines they observe
+      // enter the prior then, at their estimates of that moment (older, better).
+      const int over = static_cast<int>(retained.size()) + (k0_retained ? 1 : 0) -
+                       std::max(opt.max_retained_poses, 0);
+      std::set<int> all_lines;
+      for (const auto& [id, l] : lines) all_lines.insert(id);
+      for (std::size_t i = 0; i < retained.size(); ++i) {
+        const RetainedPose* rp = retained[i].get();
+        const bool observes = std::any_of(
+            rp->segments.begin(), rp->segments.end(), [&](const sensor::SegmentObservation& seg) {
+              return lines.count(seg.line_id) && !lines_leaving.count(seg.line_id);
+            });
+        const bool leaves = !observes || static_cast<int>(i) < over;
+        if (leaves) retained_out.push_back(rp);
+        AppendRetainedResiduals(&residuals, leaves ? &all_lines : &lines_leaving, rp);
+      }
+    }
     if (opt.inertial) {
       AppendInertialResiduals(0, &residuals);  // the first keyframe's priors
       AppendInertialResiduals(1, &residuals);  // the IMU factor to the successor (and its priors)
@@ -784,7 +897,10 @@ struct SlidingWindowEstimator::Impl {
         remove.push_back(l->block);
     }
     const bool pose_touched = std::find(touched.begin(), touched.end(), f0->pose) != touched.end();
-    if (pose_touched) remove.push_back(f0->pose);
+    if (pose_touched && !k0_retained) remove.push_back(f0->pose);
+    for (const RetainedPose* rp : retained_out)
+      if (std::find(touched.begin(), touched.end(), rp->pose) != touched.end())
+        remove.push_back(const_cast<double*>(rp->pose));
     for (double* b : {f0->v, f0->bias}) {
       if (std::find(touched.begin(), touched.end(), b) != touched.end()) remove.push_back(b);
     }
@@ -831,6 +947,24 @@ struct SlidingWindowEstimator::Impl {
       }
     }
     InstallPrior(std::move(next), next_blocks, result);
+    retained.erase(std::remove_if(retained.begin(), retained.end(),
+                                  [&](const std::unique_ptr<RetainedPose>& rp) {
+                                    return std::find(retained_out.begin(), retained_out.end(),
+                                                     rp.get()) != retained_out.end();
+                                  }),
+                   retained.end());
+    if (k0_retained) {
+      // k0's pose block moves to the retained storage (the prior and FEJ refer to it there).
+      std::copy(f0->pose, f0->pose + 7, k0_retained->pose);
+      for (double*& b : prior_blocks)
+        if (b == f0->pose) b = k0_retained->pose;
+      const auto it = fe.find(f0->pose);
+      if (it != fe.end()) {
+        fe[k0_retained->pose] = it->second;
+        fe.erase(f0->pose);
+      }
+      retained.push_back(std::move(k0_retained));
+    }
     DropOldestKeyframe(remove_points, remove_lines, result);
   }
 
@@ -1070,6 +1204,7 @@ struct SlidingWindowEstimator::Impl {
     fe.clear();
     retired_points.clear();
     retired_lines.clear();
+    retained.clear();
   }
 
   // The tail of both initialisations: the two keyframes are in place.

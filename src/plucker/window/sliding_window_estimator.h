@@ -30,8 +30,10 @@
 // Marginalization (oldest keyframe k0): the residuals touching k0 (its point and line
 // observations, its pose prior, the previous prior) are linearised and the Schur complement
 // removes k0 and every landmark that no remaining keyframe observes; landmarks still observed keep
-// the information of k0's observations in the prior (lines included; `keep_marginalized_lines =
-// false` drops k0's line observations instead, what PL-VIO does). First-estimate Jacobians: every
+// the information of k0's observations in the prior, except k0's observations of lines that stay:
+// those stay as they are, with k0's pose retained in the state until the lines leave
+// (retain_line_observer_poses; `keep_marginalized_lines = false` drops k0's line observations
+// instead, what PL-VIO does). First-estimate Jacobians: every
 // factor touching a block of the prior evaluates its Jacobian at the prior's linearisation point
 // of that block (the residual at the current value), and a block already in the prior enters the
 // next marginalization at that same point, so the prior does not gain information along the
@@ -128,7 +130,19 @@ struct SlidingWindowOptions {
   int max_iterations = 10;          // window solve
   int max_tracking_iterations = 8;  // motion-only pose refinement
   bool use_lines = true;
-  bool keep_marginalized_lines = true;   // false: drop the marginalized keyframe's lines
+  bool keep_marginalized_lines = true;  // false: drop the marginalized keyframe's lines
+  // k0's observations of the lines that stay in the window (kLandmarks prior, not in the
+  // inertial mode): kept as they are with k0's pose, which stays in the state (a block of the
+  // prior, first-estimate Jacobians like the others, without its keyframe) until those lines leave
+  // or max_retained_poses is exceeded (true), or put in the prior at once (false). Lines are young
+  // when k0 leaves: in the prior they then moved on average 0.14 rad (tangent) away from their
+  // linearisation point (points: 2.5 % of their depth), so the prior's linear model of them
+  // degraded over a run and kept lost to dropped; relinearising them instead made the prior
+  // inconsistent (worse). Measured: docs/vo.md.
+  bool retain_line_observer_poses = true;
+  // At most this many retained poses; beyond, the oldest is marginalized with its observations
+  // (its lines enter the prior then, at their estimates of that moment).
+  int max_retained_poses = 10;
   bool first_estimate_jacobians = true;  // false: relinearise everything (VINS-Mono)
   // FEJ on the landmarks (points and lines) of the prior too: the prior lives on the landmarks k0
   // observed, the poses enter it only through them. Off, the prior gains spurious information
@@ -215,6 +229,7 @@ struct FrameResult {
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
   int dropped_line_observations = 0;   // keep_marginalized_lines = false
+  int held_line_observations = 0;      // k0's line observations kept at its pose (this frame)
   int dropped_point_observations = 0;  // PriorBlocks::kPoses: k0's observations of live tracks
   int prior_rank = 0;
   bool marginalization_failed = false;  // the prior was reset (Build threw)

@@ -22,6 +22,7 @@ struct WindowRun {
   int failed_marginalizations = 0;
   int lost = 0;
   int line_obs_dropped = 0;
+  int line_obs_held = 0;
   int point_obs_dropped = 0;
   int marginalized_landmarks = 0;
   int max_prior_rank = 0;
@@ -73,6 +74,7 @@ WindowRun RunWindow(const sim::CameraSimulation& s, const std::vector<FrameInput
     run.failed_marginalizations += r.marginalization_failed;
     run.lost += !r.ok;
     run.line_obs_dropped += r.dropped_line_observations;
+    run.line_obs_held += r.held_line_observations;
     run.point_obs_dropped += r.dropped_point_observations;
     run.marginalized_landmarks += r.marginalized_landmarks;
     run.max_prior_rank = std::max(run.max_prior_rank, r.prior_rank);
@@ -113,41 +115,47 @@ TEST(SlidingWindowEstimator, RecoversPosesOnASimulatedRoom) {
   EXPECT_LT(run.ate_m, 0.05);
 }
 
-// Keeping the line observations of the marginalized keyframe in the prior against dropping them
-// (PL-VIO): the ATE of both over three seeds, scarce points (one point track in ten), window 5.
-// Measured: dropping is no worse here (docs/vo.md); the test reports both and checks the policy
-// did what it says.
-TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptOrDropped) {
+// Keeping the line observations of the marginalized keyframe against dropping them (PL-VIO), on
+// the room with scarce points (one point track in ten), default window (10), 100 frames, seeds
+// 1-3, the same input for both. Kept: with the marginalized keyframe's pose, which stays in the
+// state while those lines do (retain_line_observer_poses). Before, kept went into the prior at the
+// lines' first estimates and lost to dropping on all three seeds (0.0756 / 0.0438 / 0.0794 m
+// against 0.0622 / 0.0372 / 0.0654 m); the full 10-seed table is in docs/vo.md.
+TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptBeatsDropped) {
   double kept_sum = 0.0, dropped_sum = 0.0;
-  int dropped_observations = 0;
-  int runs = 0;
-  for (std::uint64_t seed = 1; seed <= 6 && runs < 3; ++seed) {
-    const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 50, seed);
+  int kept_wins = 0, held = 0;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 100, seed);
     const std::vector<FrameInput> in = Inputs(s, 10);
     SlidingWindowOptions keep;
-    keep.window_size = 5;
+    keep.retain_line_observer_poses = true;
     SlidingWindowOptions drop = keep;
     drop.keep_marginalized_lines = false;
-    const WindowRun kept = RunWindow(s, in, keep);
-    const WindowRun dropped = RunWindow(s, in, drop);
-    if (!kept.initialized || !dropped.initialized) continue;  // too few points at frames 0 and 3
-    ++runs;
+    // The first second view (from frame 3) with enough common points to start.
+    int second = 3;
+    WindowRun kept = RunWindow(s, in, keep, second);
+    while (!kept.initialized && second < 10) kept = RunWindow(s, in, keep, ++second);
+    const WindowRun dropped = RunWindow(s, in, drop, second);
+    ASSERT_TRUE(kept.initialized && dropped.initialized) << "seed " << seed;
     std::printf(
-        "room seed %d, scarce points: ATE lines kept %.4f m, dropped %.4f m (%d line "
+        "room seed %d, scarce points: ATE lines kept %.4f m (%d held), dropped %.4f m (%d line "
         "observations dropped)\n",
-        static_cast<int>(seed), kept.ate_m, dropped.ate_m, dropped.line_obs_dropped);
+        static_cast<int>(seed), kept.ate_m, kept.line_obs_held, dropped.ate_m,
+        dropped.line_obs_dropped);
     EXPECT_EQ(kept.line_obs_dropped, 0);
-    EXPECT_GT(kept.marginalized, 5);
+    EXPECT_GT(kept.line_obs_held, 300);
+    EXPECT_EQ(dropped.line_obs_held, 0);
+    EXPECT_GT(dropped.line_obs_dropped, 300);
+    EXPECT_GT(kept.marginalized, 20);
     kept_sum += kept.ate_m;
     dropped_sum += dropped.ate_m;
-    dropped_observations += dropped.line_obs_dropped;
+    kept_wins += kept.ate_m < dropped.ate_m;
+    held += kept.line_obs_held;
   }
-  ASSERT_EQ(runs, 3);
-  std::printf("mean ATE over 3 seeds: lines kept %.4f m, dropped %.4f m\n", kept_sum / 3,
-              dropped_sum / 3);
-  EXPECT_GT(dropped_observations, 300);
-  EXPECT_LT(kept_sum / 3, 0.5);
-  EXPECT_LT(dropped_sum / 3, 0.5);
+  std::printf("mean ATE over 3 seeds: lines kept %.4f m, dropped %.4f m; kept better on %d\n",
+              kept_sum / 3, dropped_sum / 3, kept_wins);
+  EXPECT_LT(kept_sum, dropped_sum);
+  EXPECT_GE(kept_wins, 2);
 }
 
 // Every frame gets an absolute pose prior drawn from its own distribution around the ground
@@ -181,6 +189,11 @@ TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
   options.loss = LossKind::kTrivial;  // the covariance of a Gaussian problem
   const WindowRun run = RunWindow(s, in, options, 3, true);
   ASSERT_TRUE(run.initialized);
+  SlidingWindowOptions in_prior = options;  // k0's line observations into the prior at once
+  in_prior.retain_line_observer_poses = false;
+  const WindowRun prior_lines = RunWindow(s, in, in_prior, 3, true);
+  std::printf("line observations into the prior at once: mean NEES %.2f over %d, ATE %.4f m\n",
+              prior_lines.mean_nees, prior_lines.nees_count, prior_lines.ate_m);
   options.first_estimate_jacobians = false;
   const WindowRun relinearised = RunWindow(s, in, options, 3, true);
   std::printf(
@@ -190,6 +203,9 @@ TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
   EXPECT_GE(run.nees_count, 8);
   EXPECT_GT(run.mean_nees, 1.0);
   EXPECT_LT(run.mean_nees, 18.0);
+  EXPECT_GE(prior_lines.nees_count, 8);
+  EXPECT_GT(prior_lines.mean_nees, 1.0);
+  EXPECT_LT(prior_lines.mean_nees, 18.0);
 }
 
 // The poses-only prior (PriorBlocks::kPoses, the fast mode of `plucker vo` on images): landmarks
