@@ -25,8 +25,8 @@
 
 #include "commands.h"
 #include "plucker/eval/line_tracks.h"
+#include "plucker/eval/point_tracks.h"
 #include "plucker/geometry/point_projection.h"
-#include "plucker/geometry/point_triangulation.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
@@ -189,26 +189,18 @@ Loaded LoadImages(const std::string& dir) {
 nlohmann::json GroundTruthTrackQuality(const PinholeIntrinsics& K, const std::vector<SE3d>& gt,
                                        const std::vector<sfm::ViewFeatures>& views,
                                        const sfm::SfmResult& r) {
+  std::vector<sensor::PointObservation> point_observations;
+  for (std::size_t p = 0; p < r.points.size(); ++p) {
+    for (const auto& [v, k] : r.points[p].observations)
+      point_observations.push_back({v, static_cast<int>(p), views[v].keypoints[k]});
+  }
+  const eval::PointTrackQuality pq = eval::EvaluatePointTracks(K, gt, point_observations);
   int points = 0, points_1px = 0, points_2px = 0;
-  for (const sfm::SfmPoint& p : r.points) {
-    std::vector<SE3d> poses;
-    std::vector<Eigen::Vector2d> uv;
-    for (const auto& [v, k] : p.observations) {
-      poses.push_back(gt[v]);
-      uv.push_back(views[v].keypoints[k]);
-    }
-    PointTriangulationOptions o;
-    o.min_parallax_deg = 0.0;
-    const PointTriangulationResult t = TriangulatePoint(K, poses, uv, o);
-    if (!t.ok()) continue;
-    double worst = 0.0;
-    for (std::size_t i = 0; i < poses.size(); ++i) {
-      const std::optional<Eigen::Vector2d> q = ProjectPoint(K, poses[i], t.p_w);
-      worst = std::max(worst, q ? (*q - uv[i]).norm() : 1e9);
-    }
+  for (const eval::PointTrackResult& t : pq.results) {
+    if (!t.judged) continue;
     ++points;
-    points_1px += worst <= 1.0;
-    points_2px += worst <= 2.0;
+    points_1px += t.max_error_px <= 1.0;
+    points_2px += t.max_error_px <= 2.0;
   }
   std::vector<sensor::SegmentObservation> observations;
   for (std::size_t l = 0; l < r.lines.size(); ++l) {
