@@ -60,13 +60,21 @@ TEST(VoxelMapTest, KNearestReachBoundsEveryPointNotReturned) {
         ASSERT_GE((p - q).norm(), reach - 1e-5) << "trial " << trial;
         ++checked;
       }
-      if (found > 0) EXPECT_GE(reach, (nn.back() - q).norm() - 1e-5);
-      if (found < 8) EXPECT_GT(reach, 0.8);  // nothing else within max_distance
+      if (found > 0) {
+        EXPECT_GE(reach, (nn.back() - q).norm() - 1e-5);
+      }
+      if (found < 8) {
+        EXPECT_GT(reach, 0.8);  // nothing else within max_distance
+      }
     }
     EXPECT_GE(checked, 200 * (num_points - 8));  // every point not returned was checked
     EXPECT_GT(reach_sum / 200, 0.2);
-    if (num_points == 300) EXPECT_GT(sparse, 150);  // the sparse case was exercised
-    if (num_points == 20000) EXPECT_LT(sparse, 20);
+    if (num_points == 300) {
+      EXPECT_GT(sparse, 150);  // the sparse case was exercised
+    }
+    if (num_points == 20000) {
+      EXPECT_LT(sparse, 20);
+    }
   }
 }
 
