@@ -4,11 +4,21 @@
 #include <cmath>
 #include <vector>
 
+#include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
 
 namespace plucker {
 namespace eval {
 namespace testing {
+
+// A KITTI-like camera (1241x376 images) for the track tests.
+inline PinholeIntrinsics KittiLikeCamera() {
+  PinholeIntrinsics k;
+  k.fx = k.fy = 700;
+  k.cx = 600;
+  k.cy = 180;
+  return k;
+}
 
 // n poses driving straight along +z (KITTI cam0 forward) with `step` metres a frame.
 inline std::vector<SE3d> StraightLine(int n, double step) {

@@ -4,19 +4,14 @@
 
 #include <stdexcept>
 
+#include "plucker/eval/eval_test_utils.h"
 #include "plucker/geometry/point_projection.h"
 
 namespace plucker {
 namespace eval {
 namespace {
 
-PinholeIntrinsics K() {
-  PinholeIntrinsics k;
-  k.fx = k.fy = 700;
-  k.cx = 600;
-  k.cy = 180;
-  return k;
-}
+PinholeIntrinsics K() { return testing::KittiLikeCamera(); }
 
 // A car-like sequence: cameras 1 m apart along z, looking along z, with a small sideways drift.
 std::vector<SE3d> Poses(int n, double drift = 0.1) {

@@ -4,19 +4,14 @@
 
 #include <stdexcept>
 
+#include "plucker/eval/eval_test_utils.h"
 #include "plucker/geometry/point_projection.h"
 
 namespace plucker {
 namespace eval {
 namespace {
 
-PinholeIntrinsics K() {
-  PinholeIntrinsics k;
-  k.fx = k.fy = 700;
-  k.cx = 600;
-  k.cy = 180;
-  return k;
-}
+PinholeIntrinsics K() { return testing::KittiLikeCamera(); }
 
 // Cameras 1 m apart sideways, looking along z.
 std::vector<SE3d> Poses(int n) {
