@@ -390,6 +390,11 @@ struct SlidingWindowEstimator::Impl {
     }
   }
 
+  // The caller's stationary flag, believed only while the body moves slower than
+  // InertialOptions::stationary_max_speed (an image test alone takes forward motion for standing).
+  bool BelievedStationary(bool flag, const Eigen::Vector3d& v_w) const {
+    return flag && v_w.norm() < opt.inertial->stationary_max_speed;
+  }
   bool RetainLinePoses() const {
     return opt.use_lines && opt.keep_marginalized_lines && opt.retain_line_observer_poses &&
            !opt.inertial && opt.prior_blocks == SlidingWindowOptions::PriorBlocks::kLandmarks;
@@ -840,8 +845,6 @@ struct SlidingWindowEstimator::Impl {
       // enter the prior then, at their estimates of that moment (older, better).
       const int over = static_cast<int>(retained.size()) + (k0_retained ? 1 : 0) -
                        std::max(opt.max_retained_poses, 0);
-      std::set<int> all_lines;
-      for (const auto& [id, l] : lines) all_lines.insert(id);
       for (std::size_t i = 0; i < retained.size(); ++i) {
         const RetainedPose* rp = retained[i].get();
         const bool observes = std::any_of(
@@ -850,7 +853,7 @@ struct SlidingWindowEstimator::Impl {
             });
         const bool leaves = !observes || static_cast<int>(i) < over;
         if (leaves) retained_out.push_back(rp);
-        AppendRetainedResiduals(&residuals, leaves ? &all_lines : &lines_leaving, rp);
+        AppendRetainedResiduals(&residuals, leaves ? nullptr : &lines_leaving, rp);
       }
     }
     if (opt.inertial) {
@@ -1319,7 +1322,7 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(
     m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * T_b_c));
     m.keyframes.back()->SetState(states[k]);
     m.keyframes.back()->input.stationary =
-        frames[k].stationary && states[k].v_w.norm() < m.opt.inertial->stationary_max_speed;
+        m.BelievedStationary(frames[k].stationary, states[k].v_w);
     if (k > 0) m.keyframes.back()->imu_from_previous = std::move(imu[k - 1]);
   }
   Frame& fa = *m.keyframes.front();
@@ -1352,8 +1355,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   InertialState imu_state;
   if (m.opt.inertial) {
     imu_state = m.Predict(input.time, &imu);
-    result.stationary = input.stationary && m.keyframes.back()->State().v_w.norm() <
-                                                m.opt.inertial->stationary_max_speed;
+    result.stationary = m.BelievedStationary(input.stationary, m.keyframes.back()->State().v_w);
     if (result.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
       imu_state.T_w_b = m.keyframes.back()->State().T_w_b;
       imu_state.v_w.setZero();
