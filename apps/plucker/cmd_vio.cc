@@ -564,6 +564,7 @@ int Run(const VioArgs& a) {
                     {"window_points", r.window_points},
                     {"window_lines", r.window_lines},
                     {"imu_chi2", r.imu_chi2},
+                    {"tracking_iterations", r.tracking_iterations},
                     {"window_iterations", r.window_iterations},
                     {"marginalized_keyframes", r.marginalized_keyframes},
                     {"marginalization_failed", r.marginalization_failed},

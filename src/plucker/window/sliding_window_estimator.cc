@@ -22,6 +22,7 @@
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/geometry/orthonormal_line.h"
+#include "plucker/window/frame_tracker.h"
 
 namespace plucker {
 namespace window {
@@ -503,48 +504,56 @@ struct SlidingWindowEstimator::Impl {
     TrackResult result;
     result.T_w_c = guess;
     f->SetCameraPose(guess);
+    // One term per observation of an existing landmark (outliers of earlier rounds left out).
+    struct Observation {
+      std::unique_ptr<ceres::CostFunction> cost;
+      const double* landmark;
+      int index;
+      bool is_point;
+    };
+    std::vector<Observation> obs;
+    for (std::size_t i = 0; i < f->input.points.size(); ++i) {
+      const auto it = points.find(f->input.points[i].point_id);
+      if (f->point_outlier[i] || it == points.end()) continue;
+      obs.push_back({std::unique_ptr<ceres::CostFunction>(PointCost(f->input.points[i].uv)),
+                     it->second->p, static_cast<int>(i), true});
+    }
+    if (opt.use_lines) {
+      for (std::size_t i = 0; i < f->input.segments.size(); ++i) {
+        const auto it = lines.find(f->input.segments[i].line_id);
+        if (f->segment_outlier[i] || it == lines.end()) continue;
+        obs.push_back({std::unique_ptr<ceres::CostFunction>(
+                           LineCost(f->input.segments[i], it->second->anchor)),
+                       it->second->block, static_cast<int>(i), false});
+      }
+    }
+    // Flags the observations that cannot be evaluated at the pose (behind the camera) or, with
+    // `threshold`, whose whitened residual exceeds it; returns how many.
+    const auto flag = [&](double threshold) {
+      int flagged = 0;
+      for (Observation& o : obs) {
+        if (o.cost == nullptr) continue;
+        double res[2];
+        const double* params[2] = {f->pose, o.landmark};
+        const bool ok = o.cost->Evaluate(params, res, nullptr) && std::isfinite(res[0]) &&
+                        std::isfinite(res[1]);
+        if (ok && std::hypot(res[0], res[1]) <= threshold) continue;
+        (o.is_point ? f->point_outlier : f->segment_outlier)[o.index] = 1;
+        o.cost.reset();
+        ++flagged;
+      }
+      return flagged;
+    };
+    flag(std::numeric_limits<double>::infinity());
+    PoseRefinementOptions ro;
+    ro.max_iterations = opt.max_tracking_iterations;
     for (int round = 0; round < 2; ++round) {
-      std::vector<ResidualSpec> residuals;
-      AppendFrameResiduals(f, true, opt.use_lines, &residuals);
-      residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
-                                     [](const ResidualSpec& r) { return r.frame == nullptr; }),
-                      residuals.end());
-      // Drop what cannot be evaluated at the guess (behind the camera).
-      if (round == 0) {
-        for (const ResidualSpec& r : residuals) {
-          double res[2];
-          std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
-          if (!r.cost->Evaluate(params.data(), res, nullptr)) {
-            (r.is_point ? r.frame->point_outlier : r.frame->segment_outlier)[r.observation] = 1;
-          }
-        }
-        residuals.clear();
-        AppendFrameResiduals(f, true, opt.use_lines, &residuals);
-        residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
-                                       [](const ResidualSpec& r) { return r.frame == nullptr; }),
-                        residuals.end());
-      }
-      if (residuals.size() < 6) return result;
-      ceres::Problem::Options po;
-      po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-      po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-      ceres::Problem problem(po);
-      for (ResidualSpec& r : residuals) {
-        problem.AddResidualBlock(r.cost.release(), loss.get(), r.blocks);
-        problem.SetParameterBlockConstant(r.blocks[1]);
-      }
-      problem.SetManifold(f->pose, const_cast<PoseManifold*>(&pose_manifold));
-      ceres::Solver::Options so;
-      so.linear_solver_type = ceres::DENSE_QR;
-      so.max_num_iterations = opt.max_tracking_iterations;
-      so.num_threads = 1;
-      so.logging_type = ceres::SILENT;
-      ceres::Solver::Summary summary;
-      ceres::Solve(so, &problem, &summary);
-      result.iterations += static_cast<int>(summary.iterations.size()) - 1;
-      std::vector<ResidualSpec> check;
-      AppendFrameResiduals(f, true, opt.use_lines, &check);
-      if (CullOutliers(check) == 0) break;
+      std::vector<PoseTerm> terms;
+      for (const Observation& o : obs)
+        if (o.cost) terms.push_back({o.cost.get(), o.landmark});
+      if (terms.size() < 6) return result;
+      result.iterations += RefinePose(terms, loss.get(), ro, f->pose).iterations;
+      if (flag(opt.outlier_sigmas) == 0) break;
     }
     result.points = result.lines = 0;
     for (std::size_t i = 0; i < f->input.points.size(); ++i)
