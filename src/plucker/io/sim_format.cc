@@ -1,5 +1,6 @@
 #include "plucker/io/sim_format.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -10,6 +11,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 
 namespace plucker {
 namespace io {
@@ -73,39 +76,107 @@ std::string Join(const std::string& dir, const std::string& name) {
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
-struct Record {
-  int line = 0;
-  std::vector<std::string> fields;
+// The fields of one line: views into the parser's text.
+class Fields {
+ public:
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  std::string_view operator[](std::size_t i) const { return data_[i]; }
+  std::string_view at(std::size_t i) const {
+    if (i >= size_) throw std::out_of_range("Fields::at");
+    return data_[i];
+  }
+
+ private:
+  friend class FileParser;
+  const std::string_view* data_ = nullptr;
+  std::size_t size_ = 0;
 };
 
+struct Record {
+  int line = 0;
+  Fields fields;
+};
+
+// The records of a text file: one per line that is not empty or a comment, split at whitespace
+// (the characters of isspace). The file is read at once and split in place (the fields are
+// views into it; the observation files of a features folder have a million fields).
 class FileParser {
  public:
   explicit FileParser(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError(path, "cannot open (missing file?)");
-    std::ostringstream content;
-    content << in.rdbuf();
-    if (in.bad()) throw IoError(path, "read error");
-    const std::string text = content.str();
-    std::istringstream lines(text);
-    std::string line;
+    ReadText(path);
+    const auto space = [](char c) {
+      return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+    };
+    const char* const text = text_.data();
+    const std::size_t size = text_.size();
+    // Sized first (no reallocation of a million fields): lines and fields counted.
+    std::size_t lines = 1, fields = 0;
+    for (std::size_t i = 0; i < size; ++i) {
+      lines += text[i] == '\n';
+      fields += !space(text[i]) && (i == 0 || space(text[i - 1]));
+    }
+    all_fields_.reserve(fields);
+    records_.reserve(lines);
+    std::vector<std::pair<std::size_t, std::size_t>> spans;  // per record: first field, count
+    spans.reserve(lines);
+    std::size_t pos = 0;
     int number = 0;
-    while (std::getline(lines, line)) {
+    while (pos < size) {
+      const std::size_t eol = std::min(text_.find('\n', pos), size);
       ++number;
-      if (number == 1) first_line_ = line;
+      if (number == 1) first_line_.assign(text + pos, eol - pos);
+      const std::size_t first = all_fields_.size();
+      for (std::size_t i = pos; i < eol;) {
+        if (space(text[i])) {
+          ++i;
+          continue;
+        }
+        std::size_t j = i;
+        while (j < eol && !space(text[j])) ++j;
+        all_fields_.emplace_back(text + i, j - i);
+        i = j;
+      }
+      pos = eol + 1;
+      if (all_fields_.size() == first || all_fields_[first][0] == '#') {
+        all_fields_.resize(first);
+        continue;
+      }
       Record r;
       r.line = number;
-      std::istringstream tokens(line);
-      std::string token;
-      while (tokens >> token) r.fields.push_back(token);
-      if (r.fields.empty() || r.fields[0][0] == '#') continue;
-      records_.push_back(std::move(r));
+      records_.push_back(r);
+      spans.emplace_back(first, all_fields_.size() - first);
+    }
+    for (std::size_t k = 0; k < records_.size(); ++k) {
+      records_[k].fields.data_ = all_fields_.data() + spans[k].first;
+      records_[k].fields.size_ = spans[k].second;
     }
     // The writer ends every line with '\n': a missing one means the file was cut short.
-    if (!text.empty() && text.back() != '\n') {
+    if (!text_.empty() && text_.back() != '\n') {
       throw IoError(path + ":" + std::to_string(number),
                     "truncated file (the last line does not end with a newline)");
     }
+  }
+  FileParser(const FileParser&) = delete;
+  FileParser& operator=(const FileParser&) = delete;
+
+  // The whole file into text_ (one read of its size when it has one).
+  void ReadText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw IoError(path, "cannot open (missing file?)");
+    const std::streamoff size = in.tellg();
+    in.seekg(0);
+    if (size > 0 && in) {
+      text_.resize(static_cast<std::size_t>(size));
+      in.read(text_.data(), size);
+      if (in.gcount() != size) throw IoError(path, "read error");
+      return;
+    }
+    in.clear();
+    std::ostringstream content;
+    content << in.rdbuf();
+    if (in.bad()) throw IoError(path, "read error");
+    text_ = std::move(content).str();
   }
 
   const std::vector<Record>& records() const { return records_; }
@@ -120,30 +191,31 @@ class FileParser {
                   std::to_string(r.fields.size()));
     }
   }
+  // strtod and strtoll stop at the whitespace (or the text's terminating null) after a field.
   double Double(const Record& r, std::size_t i) const {
-    const std::string& f = r.fields.at(i);
-    const char* begin = f.c_str();
+    const std::string_view f = r.fields.at(i);
+    const char* begin = f.data();
     char* end = nullptr;
     const double v = std::strtod(begin, &end);
-    if (end == begin || *end != '\0') {
-      Fail(r, "field " + std::to_string(i + 1) + " is not a number: '" + f + "'");
+    if (end == begin || end != begin + f.size()) {
+      Fail(r, "field " + std::to_string(i + 1) + " is not a number: '" + std::string(f) + "'");
     }
     if (!std::isfinite(v)) {
-      Fail(r, "field " + std::to_string(i + 1) + " is not finite: '" + f + "'");
+      Fail(r, "field " + std::to_string(i + 1) + " is not finite: '" + std::string(f) + "'");
     }
     return v;
   }
   long long Int(const Record& r, std::size_t i, long long lo, long long hi) const {
-    const std::string& f = r.fields.at(i);
-    const char* begin = f.c_str();
+    const std::string_view f = r.fields.at(i);
+    const char* begin = f.data();
     char* end = nullptr;
     errno = 0;
     const long long v = std::strtoll(begin, &end, 10);
-    if (end == begin || *end != '\0' || errno == ERANGE) {
-      Fail(r, "field " + std::to_string(i + 1) + " is not an integer: '" + f + "'");
+    if (end == begin || end != begin + f.size() || errno == ERANGE) {
+      Fail(r, "field " + std::to_string(i + 1) + " is not an integer: '" + std::string(f) + "'");
     }
     if (v < lo || v > hi) {
-      Fail(r, "field " + std::to_string(i + 1) + " = " + f + " is out of range [" +
+      Fail(r, "field " + std::to_string(i + 1) + " = " + std::string(f) + " is out of range [" +
                   std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     return v;
@@ -164,7 +236,9 @@ class FileParser {
 
  private:
   std::string path_;
+  std::string text_;
   std::string first_line_;
+  std::vector<std::string_view> all_fields_;
   std::vector<Record> records_;
 };
 
@@ -174,7 +248,7 @@ void ReadScene(const std::string& path, sensor::CameraImuGroundTruth* scene) {
   bool have_kind = false, have_free_space = false, have_counts = false;
   long long planes = 0, points = 0, segments = 0;
   for (const Record& r : p.records()) {
-    const std::string& key = r.fields[0];
+    const std::string_view key = r.fields[0];
     if (key == "counts") {
       p.ExpectFields(r, 4, "counts");
       planes = p.Int(r, 1, 0, LLONG_MAX);
@@ -183,7 +257,7 @@ void ReadScene(const std::string& path, sensor::CameraImuGroundTruth* scene) {
       have_counts = true;
     } else if (key == "kind") {
       p.ExpectFields(r, 2, "kind");
-      scene->scene_kind = r.fields[1];
+      scene->scene_kind = std::string(r.fields[1]);
       have_kind = true;
     } else if (key == "free_space") {
       p.ExpectFields(r, 7, "free_space");
@@ -212,7 +286,7 @@ void ReadScene(const std::string& path, sensor::CameraImuGroundTruth* scene) {
       if ((s.b_w - s.a_w).norm() == 0.0) p.Fail(r, "zero-length segment");
       scene->segments_w.push_back(s);
     } else {
-      p.Fail(r, "unknown record '" + key + "'");
+      p.Fail(r, "unknown record '" + std::string(key) + "'");
     }
   }
   if (!have_kind) throw IoError(path, "missing 'kind' record");
@@ -247,7 +321,9 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   }
   std::map<std::string, const Record*> by_key;
   for (const Record& r : p.records()) {
-    if (!by_key.emplace(r.fields[0], &r).second) p.Fail(r, "duplicate '" + r.fields[0] + "'");
+    if (!by_key.emplace(r.fields[0], &r).second) {
+      p.Fail(r, "duplicate '" + std::string(r.fields[0]) + "'");
+    }
   }
   const std::map<std::string, std::size_t> expected = {
       {"image", 3},         {"intrinsics", 5},       {"T_b_c", 8},       {"imu_rate_hz", 2},
@@ -379,6 +455,7 @@ void ReadGroundTruthFrames(const std::string& trajectory_path, const std::string
 
 void ReadImu(const std::string& path, std::vector<sensor::ImuSample>* imu) {
   const FileParser p(path);
+  imu->reserve(imu->size() + p.records().size());
   bool biases = false;  // the bias columns are ground truth: all rows have them or none
   for (const Record& r : p.records()) {
     if (imu->empty()) biases = r.fields.size() == 13;
@@ -408,6 +485,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
   std::vector<sensor::PointObservation>& points = sequence->points;
   std::vector<sensor::SegmentObservation>& segments = sequence->segments;
   const FileParser pp(points_path);
+  points.reserve(points.size() + pp.records().size());
   for (const Record& r : pp.records()) {
     pp.ExpectFields(r, 4, "point observation (frame point_id u v)");
     sensor::PointObservation o;
@@ -420,6 +498,7 @@ void ReadObservations(const std::string& points_path, const std::string& segment
     points.push_back(o);
   }
   const FileParser sp(segments_path);
+  segments.reserve(segments.size() + sp.records().size());
   for (const Record& r : sp.records()) {
     sp.ExpectFields(r, 6, "segment observation (frame line_id su sv eu ev)");
     sensor::SegmentObservation o;
