@@ -85,7 +85,7 @@ struct VioConfig {
   // about two axes (0: free from the start).
   bool estimate_extrinsic = false;
   double extrinsic_rotation_sigma = 0.05;
-  double extrinsic_translation_sigma = 0.05;
+  double extrinsic_translation_sigma = 0.02;
   double extrinsic_min_rotation_deg = 0.0;
   // The T_b_c to use instead of the input's (rig.txt or sensor.yaml): [tx, ty, tz, qx, qy, qz,
   // qw], the camera in the body frame; empty: the input's.

@@ -1283,6 +1283,7 @@ struct SlidingWindowEstimator::Impl {
     prior_blocks = next_blocks;
     if (!prior) return;
     result->prior_rank = prior->Statistics().prior_rank;
+    result->prior_dimension = prior->Statistics().kept_dimension;
     for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
       const BlockKind kind = KindOf(prior_blocks[i]);
       if (opt.first_estimate_landmarks || (kind != BlockKind::kPoint && kind != BlockKind::kLine))

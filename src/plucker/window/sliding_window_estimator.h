@@ -90,7 +90,7 @@ struct InertialOptions {
   // marginalization prior like a pose. false: T_b_c held fixed (the behaviour before the option).
   bool estimate_extrinsic = false;
   double extrinsic_rotation_sigma = 0.05;     // rad (2.9 deg)
-  double extrinsic_translation_sigma = 0.05;  // m
+  double extrinsic_translation_sigma = 0.02;  // m
   // Held at T_b_c until the window's keyframes have rotated about two axes: the second singular
   // value of their rotation vectors relative to the oldest keyframe reaches this (deg), then free
   // for good. 0 (default): free from the start; the prior keeps the unobservable directions where
@@ -248,6 +248,7 @@ struct FrameResult {
   int held_line_observations = 0;      // k0's line observations kept at its pose (this frame)
   int dropped_point_observations = 0;  // PriorBlocks::kPoses: k0's observations of live tracks
   int prior_rank = 0;
+  int prior_dimension = 0;  // tangent dimension of the prior's blocks (after a marginalization)
   bool marginalization_failed = false;  // the prior was reset (Build threw)
   double parallax_px = 0.0;
   // Visual-inertial mode: the body state (a non-keyframe: the tracked pose with the IMU-predicted
