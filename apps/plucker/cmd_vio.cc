@@ -706,11 +706,11 @@ int Run(const VioArgs& a) {
     if (cfg.estimate_extrinsic) {
       const SE3d T = estimator.ExtrinsicEstimate();
       std::cerr << "plucker vio: extrinsic " << (estimator.ExtrinsicFree() ? "estimated" : "held")
-                << ": T_b_c moved "
+                << ": T_b_c moved " << std::setprecision(3)
                 << LogSO3<double>(in.T_b_c.rotation().conjugate() * T.rotation()).norm() * 180.0 /
                        M_PI
-                << " deg, " << (T.translation() - in.T_b_c.translation()).norm()
-                << " m from the given one\n";
+                << " deg, " << std::setprecision(4)
+                << (T.translation() - in.T_b_c.translation()).norm() << " m from the given one\n";
     }
   }
   if (skipped > 0) {
