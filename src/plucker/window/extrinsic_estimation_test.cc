@@ -21,7 +21,7 @@ struct ExtrinsicRun {
   double ate_m = 0.0;         // position + yaw aligned, body poses
   double rotation_deg = 0.0;  // final T_b_c against the truth
   double translation_m = 0.0;
-  int freed_at = -1;  // first frame whose solve had the extrinsic free (-1: never)
+  int freed_at = -1;  // first frame with the extrinsic free (-1: never)
   int frames = 0;
   int first_prior_dimension = -1;  // of the prior after the first marginalization
 };

@@ -854,7 +854,6 @@ struct SlidingWindowEstimator::Impl {
     result->window_iterations = static_cast<int>(summary.iterations.size()) - 1;
     result->initial_cost = summary.initial_cost;
     result->final_cost = summary.final_cost;
-    result->extrinsic_free = extrinsic_free;
     SyncExtrinsic();
     // Cull outliers and landmarks left with too few observations.
     std::vector<ResidualSpec> check;
@@ -1538,6 +1537,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   }
   m.prev_T_w_c = m.last_T_w_c;
   m.last_T_w_c = result.T_w_c;
+  result.extrinsic_free = m.extrinsic_free;
   m.FillCounts(&result);
   stage(WindowStage::kDone);
   return result;

@@ -259,7 +259,7 @@ struct FrameResult {
   bool imu_only = false;
   bool stationary = false;  // the caller's flag, believed (InertialOptions::stationary_max_speed)
   double imu_chi2 = 0.0;
-  bool extrinsic_free = false;  // InertialOptions::estimate_extrinsic: T_b_c was free in the solve
+  bool extrinsic_free = false;  // InertialOptions::estimate_extrinsic: T_b_c is being estimated
 };
 
 // The stages of AddFrame, announced as they start (kDone at the end) so that the caller can time
