@@ -445,6 +445,16 @@ printf 'prior_on_poses_only: false\n' > "$T/vio_full.yaml"
 expect vio-landmark-prior 0 "40 frames, dynamic initialisation" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_full.tum" --no-lines --point-stride 2 \
   --config "$T/vio_full.yaml"
+# Online extrinsic estimation from a T_b_c given 2 deg and 3 cm off (docs/vio.md).
+printf 'T_b_c: [0.06, -0.04, 0.03, 0.497015113, -0.491197644, 0.497015113, -0.51446752]\n' \
+  > "$T/vio_tbc.yaml"
+expect vio-estimate-extrinsic 0 "extrinsic estimated: T_b_c moved" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_ext.tum" --json "$T/vio_ext.json" \
+  --no-lines --point-stride 2 --config "$T/vio_tbc.yaml" --estimate-extrinsic
+expect vio-estimate-extrinsic-json 0 '"rotation_change_deg"' -- cat "$T/vio_ext.json"
+printf 'T_b_c: [0, 0, 0, 0, 0, 0]\n' > "$T/vio_tbc_bad.yaml"
+expect vio-bad-extrinsic nonzero "vio_tbc_bad.yaml: T_b_c must be 7 finite numbers" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_tbc_bad.yaml"
 expect vio-no-source nonzero "give --features DIR or --euroc DIR" -- "$PLUCKER" vio --out "$T/x.tum"
 expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \
   "$PLUCKER" vio --features "$T/nothing" --out "$T/vio_x.tum"

@@ -80,12 +80,23 @@ struct VioConfig {
   int line_max_segments = 60;         // longest segments kept per image (0: all)
   double line_detection_scale = 0.5;  // image scale of the segment detection
   int line_flow_samples = 3;          // points per segment followed by optical flow
+  // Online estimation of the camera-body extrinsic (window::InertialOptions, docs/vio.md), with
+  // a prior on the given T_b_c (sigmas in rad and m); held until the window has rotated this much
+  // about two axes (0: free from the start).
+  bool estimate_extrinsic = false;
+  double extrinsic_rotation_sigma = 0.05;
+  double extrinsic_translation_sigma = 0.02;
+  double extrinsic_min_rotation_deg = 0.0;
+  // The T_b_c to use instead of the input's (rig.txt or sensor.yaml): [tx, ty, tz, qx, qy, qz,
+  // qw], the camera in the body frame; empty: the input's.
+  std::vector<double> T_b_c;
 };
 
 struct VioArgs {
   std::string features, euroc, out, json, plot, config;
   bool no_lines = false;
   bool quiet = false;
+  bool estimate_extrinsic = false;
   int point_stride = 1, window = 10;
   VioConfig cfg;
 };
@@ -126,6 +137,11 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"line_max_segments", Field(&VioConfig::line_max_segments)},
       {"line_detection_scale", Field(&VioConfig::line_detection_scale)},
       {"line_flow_samples", Field(&VioConfig::line_flow_samples)},
+      {"estimate_extrinsic", Field(&VioConfig::estimate_extrinsic)},
+      {"extrinsic_rotation_sigma", Field(&VioConfig::extrinsic_rotation_sigma)},
+      {"extrinsic_translation_sigma", Field(&VioConfig::extrinsic_translation_sigma)},
+      {"extrinsic_min_rotation_deg", Field(&VioConfig::extrinsic_min_rotation_deg)},
+      {"T_b_c", Field(&VioConfig::T_b_c)},
   };
   return fields;
 }
@@ -163,6 +179,20 @@ void ApplyConfig(const std::string& path, VioConfig* c) {
                       "init_min_keyframes >= 4, sigmas and intervals > 0, "
                       "0 < line_detection_scale <= 1, line_flow_samples >= 2)");
   }
+  if (!(c->extrinsic_rotation_sigma > 0.0) || !(c->extrinsic_translation_sigma > 0.0) ||
+      !(c->extrinsic_min_rotation_deg >= 0.0)) {
+    throw io::IoError(path,
+                      "extrinsic_rotation_sigma and extrinsic_translation_sigma must be > 0, "
+                      "extrinsic_min_rotation_deg >= 0");
+  }
+  const std::vector<double>& e = c->T_b_c;
+  const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
+  if (!e.empty() &&
+      (e.size() != 7 || !finite || Eigen::Vector4d(e[3], e[4], e[5], e[6]).norm() < 1e-6)) {
+    throw io::IoError(path,
+                      "T_b_c must be 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero "
+                      "quaternion");
+  }
 }
 
 // The window's options from the configuration and the input's sensors.
@@ -186,6 +216,10 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   inertial.accel_bias_prior_sigma = c.accel_bias_prior_sigma;
   inertial.velocity_prior_sigma = c.velocity_prior_sigma;
   inertial.max_keyframe_interval_s = c.max_keyframe_interval_s;
+  inertial.estimate_extrinsic = c.estimate_extrinsic;
+  inertial.extrinsic_rotation_sigma = c.extrinsic_rotation_sigma;
+  inertial.extrinsic_translation_sigma = c.extrinsic_translation_sigma;
+  inertial.extrinsic_min_rotation_deg = c.extrinsic_min_rotation_deg;
   o.inertial = inertial;
   return o;
 }
@@ -427,6 +461,26 @@ void WritePlot(const std::string& path, const VioInput& in, const std::vector<in
   io::WriteFileAtomically(path, eval::RenderTrajectoryPlotSvg(plot));
 }
 
+// [tx, ty, tz, qx, qy, qz, qw]
+nlohmann::json PoseJson(const SE3d& T) {
+  const Eigen::Quaterniond& q = T.rotation();
+  const Eigen::Vector3d& t = T.translation();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+// The extrinsic at the end (given, or estimated) and its change from the given one.
+nlohmann::json ExtrinsicJson(const SE3d& given, const window::SlidingWindowEstimator& estimator,
+                             bool estimated) {
+  const SE3d T = estimator.ExtrinsicEstimate();
+  return {{"estimated", estimated},
+          {"freed", estimator.ExtrinsicFree()},
+          {"T_b_c_given", PoseJson(given)},
+          {"T_b_c", PoseJson(T)},
+          {"rotation_change_deg",
+           LogSO3<double>(given.rotation().conjugate() * T.rotation()).norm() * 180.0 / M_PI},
+          {"translation_change_m", (T.translation() - given.translation()).norm()}};
+}
+
 int Run(const VioArgs& a) {
   const double t_start = WallMs();
   VioConfig cfg = a.cfg;
@@ -444,6 +498,10 @@ int Run(const VioArgs& a) {
   const int n = static_cast<int>(in.frames.size());
   if (n < 3) throw io::IoError(in.source, "needs at least 3 frames, has " + std::to_string(n));
   for (const std::string& w : in.warnings) std::cerr << "plucker vio: warning: " << w << "\n";
+  if (!cfg.T_b_c.empty()) {  // --config T_b_c: the extrinsic given instead of the input's
+    const std::vector<double>& e = cfg.T_b_c;
+    in.T_b_c = SE3d(Eigen::Quaterniond(e[6], e[3], e[4], e[5]), Eigen::Vector3d(e[0], e[1], e[2]));
+  }
   const double read_ms = WallMs() - t_start;
 
   std::vector<std::optional<SE3d>> T_w_b(n);
@@ -636,6 +694,7 @@ int Run(const VioArgs& a) {
         {"times_real_time", cpu_ms > 0 ? 1e3 * duration / cpu_ms : 0.0},
         {"frames_per_second_cpu", cpu_ms > 0 ? 1e3 * n / cpu_ms : 0.0},
         {"total_wall_ms", WallMs() - t_start}};
+    out["summary"]["extrinsic"] = ExtrinsicJson(in.T_b_c, estimator, cfg.estimate_extrinsic);
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) {
@@ -645,6 +704,15 @@ int Run(const VioArgs& a) {
               << std::setprecision(2) << cpu_ms / 1e3 << " s CPU for " << duration << " s of data ("
               << (cpu_ms > 0 ? 1e3 * duration / cpu_ms : 0.0) << "x real time); wrote " << a.out
               << "\n";
+    if (cfg.estimate_extrinsic) {
+      const SE3d T = estimator.ExtrinsicEstimate();
+      std::cerr << "plucker vio: extrinsic " << (estimator.ExtrinsicFree() ? "estimated" : "held")
+                << ": T_b_c moved " << std::setprecision(3)
+                << LogSO3<double>(in.T_b_c.rotation().conjugate() * T.rotation()).norm() * 180.0 /
+                       M_PI
+                << " deg, " << std::setprecision(4)
+                << (T.translation() - in.T_b_c.translation()).norm() << " m from the given one\n";
+    }
   }
   if (skipped > 0) {
     std::cerr << "plucker vio: warning: " << skipped
@@ -678,9 +746,14 @@ void RegisterVio(CLI::App& app, int* exit_code) {
          "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
          "init_min_excitation, init_max_rotation_disagreement_deg, init_gyro_bias_bound, "
          "image_still_px, max_point_tracks, point_min_distance_px, "
-         "line_max_segments, line_detection_scale, line_flow_samples")
+         "line_max_segments, line_detection_scale, line_flow_samples, estimate_extrinsic, "
+         "extrinsic_rotation_sigma, extrinsic_translation_sigma, extrinsic_min_rotation_deg, "
+         "T_b_c ([tx, ty, tz, qx, qy, qz, qw], instead of the input's)")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-lines", args->no_lines, "Points only");
+  CLI::Option* estimate_extrinsic =
+      cmd->add_flag("--estimate-extrinsic", args->estimate_extrinsic,
+                    "Estimate the camera-body extrinsic T_b_c online (docs/vio.md)");
   CLI::Option* stride =
       cmd->add_option("--point-stride", args->point_stride,
                       "Use the point tracks whose id is a multiple of this (features folders)")
@@ -690,7 +763,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
                             ->check(CLI::Range(2, 1000))
                             ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
-  cmd->callback([args, exit_code, stride, window]() {
+  cmd->callback([args, exit_code, stride, window, estimate_extrinsic]() {
     RunGuarded("vio", exit_code, [&] {
       if (args->features.empty() == args->euroc.empty()) {
         throw std::invalid_argument("give --features DIR or --euroc DIR");
@@ -699,6 +772,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       if (!args->config.empty()) ApplyConfig(args->config, &args->cfg);
       if (stride->count() > 0) args->cfg.point_stride = args->point_stride;
       if (window->count() > 0) args->cfg.window = args->window;
+      if (estimate_extrinsic->count() > 0) args->cfg.estimate_extrinsic = true;
       return Run(*args);
     });
   });

@@ -6,6 +6,8 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
@@ -222,6 +224,12 @@ struct SlidingWindowEstimator::Impl {
   int frames_seen = 0;
   int next_index = 0;
   std::vector<sensor::ImuSample> imu;  // inertial mode: from just before the newest keyframe
+  // Inertial mode: the extrinsic the window uses now (InertialOptions::T_b_c unless estimated),
+  // its parameter block and its prior (InertialOptions::estimate_extrinsic).
+  SE3d T_b_c;
+  double extrinsic[7];
+  bool extrinsic_free = false;
+  std::unique_ptr<MarginalizationPrior> extrinsic_prior;
 
   bool InPrior(const double* block) const {
     return std::find(prior_blocks.begin(), prior_blocks.end(), block) != prior_blocks.end();
@@ -245,7 +253,7 @@ struct SlidingWindowEstimator::Impl {
     }
     f->point_outlier.assign(f->input.points.size(), 0);
     f->segment_outlier.assign(f->input.segments.size(), 0);
-    if (opt.inertial) f->T_b_c = opt.inertial->T_b_c;
+    if (opt.inertial) f->T_b_c = T_b_c;
     f->SetCameraPose(T_w_c);
     return f;
   }
@@ -255,15 +263,82 @@ struct SlidingWindowEstimator::Impl {
   ceres::CostFunction* PointCost(const Eigen::Vector2d& uv) const {
     if (!opt.inertial) return PointReprojectionFactor::Create(K, uv, PointSqrtInfo());
     return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
-                                      opt.inertial->T_b_c);
+                                      T_b_c);
   }
 
   ceres::CostFunction* LineCost(const sensor::SegmentObservation& s,
                                 const LineAnchor& anchor) const {
     if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
     return new HeldExtrinsicFactor<6>(
-        AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor),
-        opt.inertial->T_b_c);
+        AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor), T_b_c);
+  }
+
+  // --- extrinsic estimation (InertialOptions::estimate_extrinsic) -----------------------------
+
+  // The extrinsic back to InertialOptions::T_b_c, held; with estimation, its prior: r = S
+  // Minus(T_b_c, T_b_c given), S = diag(1 / sigma), the verified MarginalizationPrior of that
+  // residual alone (nothing marginalized: the prior is the residual's linearisation, exact here
+  // because the residual is linear in the PoseManifold Minus).
+  void ResetExtrinsic() {
+    if (!opt.inertial) return;
+    T_b_c = opt.inertial->T_b_c;
+    T_b_c.ToParameters(extrinsic);
+    extrinsic_free = false;
+    if (!opt.inertial->estimate_extrinsic || extrinsic_prior) return;
+    Vector6d sigma;
+    sigma << Eigen::Vector3d::Constant(opt.inertial->extrinsic_rotation_sigma),
+        Eigen::Vector3d::Constant(opt.inertial->extrinsic_translation_sigma);
+    const Eigen::Matrix<double, 6, 6> S = sigma.cwiseInverse().asDiagonal();
+    std::vector<double> x0(extrinsic, extrinsic + 7);
+    ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7> cost(new PosePriorResidual{T_b_c, S});
+    extrinsic_prior = std::make_unique<MarginalizationPrior>(MarginalizationPrior::Build(
+        {{x0.data(), 7, &pose_manifold}}, {{&cost, nullptr, {x0.data()}}}, {}));
+  }
+
+  // Rotation excitation of the window: the second singular value (deg) of the keyframes' body
+  // rotation vectors relative to the oldest keyframe (0 unless they turned about two axes).
+  double RotationSpanDeg() const {
+    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    const Eigen::Quaterniond q0 = SE3d::FromParameters(keyframes.front()->pose).rotation();
+    for (const auto& f : keyframes) {
+      const Eigen::Vector3d w =
+          LogSO3<double>(q0.conjugate() * SE3d::FromParameters(f->pose).rotation());
+      M += w * w.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);
+    return std::sqrt(std::max(eig.eigenvalues()(1), 0.0)) * 180.0 / M_PI;
+  }
+
+  // Frees the extrinsic for good once the window has rotated enough (see InertialOptions).
+  void UpdateExtrinsicFree() {
+    if (!opt.inertial || !opt.inertial->estimate_extrinsic || extrinsic_free) return;
+    extrinsic_free = RotationSpanDeg() >= opt.inertial->extrinsic_min_rotation_deg;
+  }
+
+  // After a solve: the frames see the camera through the new estimate.
+  void SyncExtrinsic() {
+    if (!extrinsic_free) return;
+    T_b_c = SE3d::FromParameters(extrinsic);
+    T_b_c.ToParameters(extrinsic);  // normalized
+    for (auto& f : keyframes) f->T_b_c = T_b_c;
+  }
+
+  // With the extrinsic free: the visual residuals (held-extrinsic factors on pose and landmark)
+  // become the VI factors on (pose, extrinsic block, landmark).
+  void UseExtrinsicBlock(std::vector<ResidualSpec>* residuals) {
+    if (!extrinsic_free) return;
+    for (ResidualSpec& r : *residuals) {
+      if (r.frame == nullptr) continue;
+      if (r.is_point) {
+        const Eigen::Vector2d& uv = r.frame->input.points[r.observation].uv;
+        r.cost.reset(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()));
+      } else {
+        const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
+        r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px, LineSqrtInfo(),
+                                                  lines.at(seg.line_id)->anchor));
+      }
+      r.blocks = {r.blocks[0], extrinsic, r.blocks[1]};
+    }
   }
 
   // The IMU from time t0 to t1 at the bias `bias` (throws std::invalid_argument when the samples
@@ -467,6 +542,7 @@ struct SlidingWindowEstimator::Impl {
   }
 
   BlockKind KindOf(const double* block) const {
+    if (block == extrinsic) return BlockKind::kPose;
     for (const auto& rp : retained)
       if (rp->pose == block) return BlockKind::kPose;
     for (const auto& f : keyframes) {
@@ -741,6 +817,14 @@ struct SlidingWindowEstimator::Impl {
       for (std::size_t k = 0; k < keyframes.size(); ++k) AppendInertialResiduals(k, &residuals);
     }
     AppendRetainedResiduals(&residuals);
+    UseExtrinsicBlock(&residuals);
+    if (extrinsic_free) {
+      ResidualSpec r;
+      r.cost.reset(extrinsic_prior->CreateCostFunction());
+      r.robust = false;
+      r.blocks = {extrinsic};
+      residuals.push_back(std::move(r));
+    }
     int n = 0;
     for (ResidualSpec& r : residuals) {
       if (r.frame != nullptr) {
@@ -770,6 +854,7 @@ struct SlidingWindowEstimator::Impl {
     for (auto& f : keyframes) {
       if (problem->HasParameterBlock(f->pose)) problem->SetManifold(f->pose, &pose_manifold);
     }
+    if (problem->HasParameterBlock(extrinsic)) problem->SetManifold(extrinsic, &pose_manifold);
     for (auto& rp : retained) {
       if (problem->HasParameterBlock(rp->pose)) problem->SetManifold(rp->pose, &pose_manifold);
     }
@@ -792,6 +877,7 @@ struct SlidingWindowEstimator::Impl {
 
   void SolveWindow(FrameResult* result) {
     RepropagateImu();
+    UpdateExtrinsicFree();
     ceres::Problem problem(ProblemOptions());
     std::vector<ObservationBlock> observations;
     result->residuals = BuildProblem(&problem, true, &observations);
@@ -812,6 +898,7 @@ struct SlidingWindowEstimator::Impl {
     result->window_iterations = static_cast<int>(summary.iterations.size()) - 1;
     result->initial_cost = summary.initial_cost;
     result->final_cost = summary.final_cost;
+    SyncExtrinsic();
     // Cull outliers (the problem's own residual blocks, at the solution) and landmarks left with
     // too few observations.
     result->culled_observations = CullOutliers(problem, observations);
@@ -861,6 +948,7 @@ struct SlidingWindowEstimator::Impl {
     }
     std::vector<ResidualSpec> residuals;
     AppendFrameResiduals(f0, true, opt.use_lines && opt.keep_marginalized_lines, &residuals);
+    UseExtrinsicBlock(&residuals);  // the extrinsic stays: k0's information on it enters the prior
     // Retained poses: k0's observations of the lines that stay are kept as they are, and k0's
     // pose with them (not eliminated); the retained observations of the lines that leave now
     // join the marginalization, and a retained pose left without observations leaves with them.
@@ -1080,16 +1168,17 @@ struct SlidingWindowEstimator::Impl {
     // Every window residual of the leaving landmarks, grouped by landmark.
     std::vector<ResidualSpec> all;
     for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &all);
+    UseExtrinsicBlock(&all);  // the landmark is the last block
     // In the order of first observation (not of the addresses: the run is deterministic).
     std::vector<std::pair<const double*, std::vector<ResidualSpec*>>> by_landmark;
     std::map<const double*, std::size_t> landmark_index;
     for (ResidualSpec& r : all) {
-      if (r.frame == nullptr || !leaving.count(r.blocks[1])) continue;
+      if (r.frame == nullptr || !leaving.count(r.blocks.back())) continue;
       std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
       double res[2];
       if (!r.cost->Evaluate(params.data(), res, nullptr)) continue;
-      const auto [it, added] = landmark_index.emplace(r.blocks[1], by_landmark.size());
-      if (added) by_landmark.push_back({r.blocks[1], {}});
+      const auto [it, added] = landmark_index.emplace(r.blocks.back(), by_landmark.size());
+      if (added) by_landmark.push_back({r.blocks.back(), {}});
       by_landmark[it->second].second.push_back(&r);
     }
     // Scratch copies of the keyframe blocks (poses; velocities and biases in the inertial mode)
@@ -1116,12 +1205,17 @@ struct SlidingWindowEstimator::Impl {
       std::vector<MarginalizationBlock> blocks = {{lm.data(), n, ManifoldOf(kind)}};
       std::vector<MarginalizationResidual> mres;
       for (ResidualSpec* r : list) {
-        double* pose = scratch_of(r->blocks[0]);
-        to_real[pose] = r->blocks[0];
-        if (std::none_of(blocks.begin(), blocks.end(),
-                         [&](const MarginalizationBlock& b) { return b.values == pose; }))
-          blocks.push_back({pose, 7, &pose_manifold});
-        mres.push_back({r->cost.get(), loss.get(), {pose, lm.data()}});
+        MarginalizationResidual m{r->cost.get(), loss.get(), {}};
+        for (std::size_t b = 0; b + 1 < r->blocks.size(); ++b) {  // the pose (and extrinsic)
+          double* pose = scratch_of(r->blocks[b]);
+          to_real[pose] = r->blocks[b];
+          if (std::none_of(blocks.begin(), blocks.end(),
+                           [&](const MarginalizationBlock& x) { return x.values == pose; }))
+            blocks.push_back({pose, 7, &pose_manifold});
+          m.blocks.push_back(pose);
+        }
+        m.blocks.push_back(lm.data());
+        mres.push_back(std::move(m));
       }
       try {
         auto p = std::make_unique<MarginalizationPrior>(
@@ -1171,6 +1265,8 @@ struct SlidingWindowEstimator::Impl {
         blocks.push_back({scratch.at(real).data(), AmbientSize(kind), ManifoldOf(kind)});
       }
     }
+    if (scratch.count(extrinsic))
+      blocks.push_back({scratch.at(extrinsic).data(), 7, &pose_manifold});
     std::unique_ptr<MarginalizationPrior> next;
     std::vector<double*> next_blocks;
     // k0's blocks that a residual touches are removed. Only k0 touched (e.g. every leaving
@@ -1229,6 +1325,7 @@ struct SlidingWindowEstimator::Impl {
     prior_blocks = next_blocks;
     if (!prior) return;
     result->prior_rank = prior->Statistics().prior_rank;
+    result->prior_dimension = prior->Statistics().kept_dimension;
     for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
       const BlockKind kind = KindOf(prior_blocks[i]);
       if (opt.first_estimate_landmarks || (kind != BlockKind::kPoint && kind != BlockKind::kLine))
@@ -1251,6 +1348,7 @@ struct SlidingWindowEstimator::Impl {
     retired_points.clear();
     retired_lines.clear();
     retained.clear();
+    ResetExtrinsic();
   }
 
   // The tail of both initialisations: the two keyframes are in place.
@@ -1304,6 +1402,15 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     impl_->loss = std::make_unique<ceres::HuberLoss>(options.loss_scale);
   if (options.loss == LossKind::kCauchy)
     impl_->loss = std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+  if (options.inertial && options.inertial->estimate_extrinsic &&
+      !(options.inertial->extrinsic_rotation_sigma > 0.0 &&
+        options.inertial->extrinsic_translation_sigma > 0.0 &&
+        options.inertial->extrinsic_min_rotation_deg >= 0.0)) {
+    throw std::invalid_argument(
+        "SlidingWindowEstimator: the extrinsic sigmas must be positive and "
+        "extrinsic_min_rotation_deg >= 0");
+  }
+  impl_->ResetExtrinsic();
 }
 
 SlidingWindowEstimator::~SlidingWindowEstimator() = default;
@@ -1360,9 +1467,8 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(
         m.Preintegrate(frames[k - 1].time, frames[k].time, states[k - 1].bias)));
   }
   m.Clear();
-  const SE3d& T_b_c = m.opt.inertial->T_b_c;
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * T_b_c));
+    m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * m.T_b_c));
     m.keyframes.back()->SetState(states[k]);
     m.keyframes.back()->input.stationary =
         m.BelievedStationary(frames[k].stationary, states[k].v_w);
@@ -1376,6 +1482,13 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(
   if (result.ok) m.PruneImu();
   return result;
 }
+
+SE3d SlidingWindowEstimator::ExtrinsicEstimate() const {
+  if (!impl_->opt.inertial) throw std::logic_error("ExtrinsicEstimate: not in the inertial mode");
+  return impl_->T_b_c;
+}
+
+bool SlidingWindowEstimator::ExtrinsicFree() const { return impl_->extrinsic_free; }
 
 std::vector<InertialState> SlidingWindowEstimator::KeyframeStates() const {
   std::vector<InertialState> out;
@@ -1405,7 +1518,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     }
   }
   const SE3d predicted = input.T_w_c_guess ? *input.T_w_c_guess
-                         : m.opt.inertial  ? imu_state.T_w_b * m.opt.inertial->T_b_c
+                         : m.opt.inertial  ? imu_state.T_w_b * m.T_b_c
                                            : m.last_T_w_c * (m.prev_T_w_c.Inverse() * m.last_T_w_c);
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
   frame->input.stationary = result.stationary;
@@ -1467,6 +1580,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   }
   m.prev_T_w_c = m.last_T_w_c;
   m.last_T_w_c = result.T_w_c;
+  result.extrinsic_free = m.extrinsic_free;
   m.FillCounts(&result);
   stage(WindowStage::kDone);
   return result;
