@@ -203,6 +203,7 @@ struct SlidingWindowEstimator::Impl {
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
   std::set<int> retired_points, retired_lines;
   std::vector<std::unique_ptr<RetainedPose>> retained;  // oldest first
+  int prior_lines = 0;                                  // line blocks of the prior
   int frames_seen = 0;
   int next_index = 0;
   std::vector<sensor::ImuSample> imu;  // inertial mode: from just before the newest keyframe
@@ -1191,6 +1192,7 @@ struct SlidingWindowEstimator::Impl {
     fe.clear();
     prior = std::move(next);
     prior_blocks = next_blocks;
+    prior_lines = 0;
     if (!prior) return;
     result->prior_rank = prior->Statistics().prior_rank;
     for (std::size_t i = 0; i < prior_blocks.size(); ++i) {
@@ -1203,6 +1205,9 @@ struct SlidingWindowEstimator::Impl {
       prior_blocks.clear();
       fe.clear();
     }
+    prior_lines = static_cast<int>(
+        std::count_if(prior_blocks.begin(), prior_blocks.end(),
+                      [this](const double* b) { return KindOf(b) == BlockKind::kLine; }));
   }
 
   void Clear() {
@@ -1215,6 +1220,7 @@ struct SlidingWindowEstimator::Impl {
     retired_points.clear();
     retired_lines.clear();
     retained.clear();
+    prior_lines = 0;
   }
 
   // The tail of both initialisations: the two keyframes are in place.
@@ -1249,9 +1255,7 @@ struct SlidingWindowEstimator::Impl {
     r->window_lines = static_cast<int>(lines.size());
     r->window_keyframes = static_cast<int>(keyframes.size());
     r->retained_poses = static_cast<int>(retained.size());
-    r->prior_lines = static_cast<int>(
-        std::count_if(prior_blocks.begin(), prior_blocks.end(),
-                      [this](const double* b) { return KindOf(b) == BlockKind::kLine; }));
+    r->prior_lines = prior_lines;
   }
 };
 
