@@ -253,6 +253,9 @@ nlohmann::json FrameJson(const window::FrameResult& r, const nlohmann::json& tim
           {"dropped_point_observations", r.dropped_point_observations},
           {"dropped_line_observations", r.dropped_line_observations},
           {"held_line_observations", r.held_line_observations},
+          {"dropped_retained_line_observations", r.dropped_retained_line_observations},
+          {"retained_poses", r.retained_poses},
+          {"prior_lines", r.prior_lines},
           {"prior_rank", r.prior_rank},
           {"marginalization_failed", r.marginalization_failed},
           {"ms", times}};
@@ -336,6 +339,8 @@ void WriteJson(const VoRun& run, double read_ms, double total_ms) {
       {"use_lines", run.config.window.use_lines},
       {"keep_marginalized_lines", run.config.window.keep_marginalized_lines},
       {"retain_line_observer_poses", run.config.window.retain_line_observer_poses},
+      {"max_retained_poses", run.config.window.max_retained_poses},
+      {"retained_overflow_into_prior", run.config.window.retained_overflow_into_prior},
       {"prior_on_poses_only",
        run.config.window.prior_blocks == window::SlidingWindowOptions::PriorBlocks::kPoses},
       {"point_stride", run.args.point_stride},

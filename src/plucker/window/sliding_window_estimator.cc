@@ -221,6 +221,7 @@ struct SlidingWindowEstimator::Impl {
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
   std::set<int> retired_points, retired_lines;
   std::vector<std::unique_ptr<RetainedPose>> retained;  // oldest first
+  int prior_lines = 0;                                  // line blocks of the prior
   int frames_seen = 0;
   int next_index = 0;
   std::vector<sensor::ImuSample> imu;  // inertial mode: from just before the newest keyframe
@@ -972,8 +973,9 @@ struct SlidingWindowEstimator::Impl {
       for (const auto& [id, l] : lines)
         if (!lines_kept.count(id)) lines_leaving.insert(id);
       // A retained pose leaves when it observes no line that stays, or, beyond
-      // max_retained_poses, the oldest leave with all their observations: the lines they observe
-      // enter the prior then, at their estimates of that moment (older, better).
+      // max_retained_poses, the oldest leave: their observations of the lines that stay are
+      // dropped (or, retained_overflow_into_prior, enter the prior with the lines at their
+      // estimates of that moment); those of the lines that leave are marginalized with them.
       const int over = static_cast<int>(retained.size()) + (k0_retained ? 1 : 0) -
                        std::max(opt.max_retained_poses, 0);
       for (std::size_t i = 0; i < retained.size(); ++i) {
@@ -984,7 +986,13 @@ struct SlidingWindowEstimator::Impl {
             });
         const bool leaves = !observes || static_cast<int>(i) < over;
         if (leaves) retained_out.push_back(rp);
-        AppendRetainedResiduals(&residuals, leaves ? nullptr : &lines_leaving, rp);
+        const bool all = leaves && opt.retained_overflow_into_prior;
+        if (leaves && !all) {
+          for (const sensor::SegmentObservation& seg : rp->segments)
+            if (lines.count(seg.line_id) && !lines_leaving.count(seg.line_id))
+              ++result->dropped_retained_line_observations;
+        }
+        AppendRetainedResiduals(&residuals, all ? nullptr : &lines_leaving, rp);
       }
     }
     if (opt.inertial) {
@@ -1323,6 +1331,7 @@ struct SlidingWindowEstimator::Impl {
     fe.clear();
     prior = std::move(next);
     prior_blocks = next_blocks;
+    prior_lines = 0;
     if (!prior) return;
     result->prior_rank = prior->Statistics().prior_rank;
     result->prior_dimension = prior->Statistics().kept_dimension;
@@ -1336,6 +1345,9 @@ struct SlidingWindowEstimator::Impl {
       prior_blocks.clear();
       fe.clear();
     }
+    prior_lines = static_cast<int>(
+        std::count_if(prior_blocks.begin(), prior_blocks.end(),
+                      [this](const double* b) { return KindOf(b) == BlockKind::kLine; }));
   }
 
   void Clear() {
@@ -1349,6 +1361,7 @@ struct SlidingWindowEstimator::Impl {
     retired_lines.clear();
     retained.clear();
     ResetExtrinsic();
+    prior_lines = 0;
   }
 
   // The tail of both initialisations: the two keyframes are in place.
@@ -1382,6 +1395,8 @@ struct SlidingWindowEstimator::Impl {
     r->window_points = static_cast<int>(points.size());
     r->window_lines = static_cast<int>(lines.size());
     r->window_keyframes = static_cast<int>(keyframes.size());
+    r->retained_poses = static_cast<int>(retained.size());
+    r->prior_lines = prior_lines;
   }
 };
 

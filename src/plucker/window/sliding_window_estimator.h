@@ -32,12 +32,12 @@
 // removes k0 and every landmark that no remaining keyframe observes; landmarks still observed keep
 // the information of k0's observations in the prior, except k0's observations of lines that stay:
 // those stay as they are, with k0's pose retained in the state until the lines leave
-// (retain_line_observer_poses; `keep_marginalized_lines = false` drops k0's line observations
-// instead, what PL-VIO does). First-estimate Jacobians: every
-// factor touching a block of the prior evaluates its Jacobian at the prior's linearisation point
-// of that block (the residual at the current value), and a block already in the prior enters the
-// next marginalization at that same point, so the prior does not gain information along the
-// unobservable directions (gauge and scale) by relinearisation.
+// (retain_line_observer_poses, by default no line is then ever a block of the prior;
+// `keep_marginalized_lines = false` drops k0's line observations instead, what PL-VIO does).
+// First-estimate Jacobians: every factor touching a block of the prior evaluates its Jacobian at
+// the prior's linearisation point of that block (the residual at the current value), and a block
+// already in the prior enters the next marginalization at that same point, so the prior does not
+// gain information along the unobservable directions (gauge and scale) by relinearisation.
 //
 // Gauge: until the first marginalization the oldest keyframe is held constant; the scale is that
 // of the initialisation (monocular: arbitrary, kept consistent by the window).
@@ -156,9 +156,15 @@ struct SlidingWindowOptions {
   // degraded over a run and kept lost to dropped; relinearising them instead made the prior
   // inconsistent (worse). Measured: docs/vo.md.
   bool retain_line_observer_poses = true;
-  // At most this many retained poses; beyond, the oldest is marginalized with its observations
-  // (its lines enter the prior then, at their estimates of that moment).
+  // At most this many retained poses; beyond, the oldest is marginalized. Its observations of the
+  // lines that stay are then dropped (default), or with retained_overflow_into_prior they enter
+  // the prior at the lines' estimates of that moment. So by default no line is ever a block of
+  // the prior: a line in the prior has the Jacobians of all its later factors frozen at its
+  // first estimate, and long-lived lines (the corridor's) kept moving away from it (0.12 rad
+  // tangent on average, up to 2 rad, when they left), so that kept lost to dropped on 200-frame
+  // corridors. Measured: docs/vo.md.
   int max_retained_poses = 10;
+  bool retained_overflow_into_prior = false;
   bool first_estimate_jacobians = true;  // false: relinearise everything (VINS-Mono)
   // FEJ on the landmarks (points and lines) of the prior too: the prior lives on the landmarks k0
   // observed, the poses enter it only through them. Off, the prior gains spurious information
@@ -244,8 +250,13 @@ struct FrameResult {
   int culled_observations = 0;
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
-  int dropped_line_observations = 0;   // keep_marginalized_lines = false
-  int held_line_observations = 0;      // k0's line observations kept at its pose (this frame)
+  int dropped_line_observations = 0;  // keep_marginalized_lines = false
+  int held_line_observations = 0;     // k0's line observations kept at its pose (this frame)
+  // Observations of a retained pose that left beyond max_retained_poses, of lines that stay:
+  // dropped (retained_overflow_into_prior = false).
+  int dropped_retained_line_observations = 0;
+  int retained_poses = 0;  // marginalized keyframes' poses retained in the state, after the frame
+  int prior_lines = 0;     // line blocks of the prior, after the frame
   int dropped_point_observations = 0;  // PriorBlocks::kPoses: k0's observations of live tracks
   int prior_rank = 0;
   int prior_dimension = 0;  // tangent dimension of the prior's blocks (after a marginalization)

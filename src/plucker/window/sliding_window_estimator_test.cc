@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "plucker/eval/ate.h"
 #include "plucker/sim/camera_observations.h"
@@ -24,6 +26,9 @@ struct WindowRun {
   int lost = 0;
   int line_obs_dropped = 0;
   int line_obs_held = 0;
+  int retained_line_obs_dropped = 0;  // of retained poses beyond max_retained_poses
+  int max_retained_poses = 0;
+  int max_prior_lines = 0;
   int point_obs_dropped = 0;
   int marginalized_landmarks = 0;
   int max_prior_rank = 0;
@@ -76,6 +81,9 @@ WindowRun RunWindow(const sim::CameraSimulation& s, const std::vector<FrameInput
     run.lost += !r.ok;
     run.line_obs_dropped += r.dropped_line_observations;
     run.line_obs_held += r.held_line_observations;
+    run.retained_line_obs_dropped += r.dropped_retained_line_observations;
+    run.max_retained_poses = std::max(run.max_retained_poses, r.retained_poses);
+    run.max_prior_lines = std::max(run.max_prior_lines, r.prior_lines);
     run.point_obs_dropped += r.dropped_point_observations;
     run.marginalized_landmarks += r.marginalized_landmarks;
     run.max_prior_rank = std::max(run.max_prior_rank, r.prior_rank);
@@ -116,20 +124,15 @@ TEST(SlidingWindowEstimator, RecoversPosesOnASimulatedRoom) {
   EXPECT_LT(run.ate_m, 0.05);
 }
 
-// Keeping the line observations of the marginalized keyframe against dropping them (PL-VIO), on
-// the room with scarce points (one point track in ten), default window (10), 100 frames, seeds
-// 1-3, the same input for both. Kept: with the marginalized keyframe's pose, which stays in the
-// state while those lines do (retain_line_observer_poses). Before, kept went into the prior at the
-// lines' first estimates and lost to dropping on all three seeds (0.0756 / 0.0438 / 0.0794 m
-// against 0.0622 / 0.0372 / 0.0654 m); the full 10-seed table is in docs/vo.md.
 // One seed, lines kept (`keep`) against dropped at marginalization, on the same simulation and
 // the same start: ground-truth poses of frame 0 and of the first frame from 3 that starts.
 struct KeptAndDropped {
   WindowRun kept, dropped;
 };
 KeptAndDropped RunKeptAndDropped(sim::SceneKind kind, std::uint64_t seed, int point_stride,
-                                 const SlidingWindowOptions& keep, int last_second) {
-  const sim::CameraSimulation s = Simulate(kind, 100, seed);
+                                 const SlidingWindowOptions& keep, int last_second,
+                                 int frames = 100) {
+  const sim::CameraSimulation s = Simulate(kind, frames, seed);
   const std::vector<FrameInput> in = Inputs(s, point_stride);
   SlidingWindowOptions drop = keep;
   drop.keep_marginalized_lines = false;
@@ -140,69 +143,134 @@ KeptAndDropped RunKeptAndDropped(sim::SceneKind kind, std::uint64_t seed, int po
   return r;
 }
 
-TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptBeatsDropped) {
+// Keeping the line observations of the marginalized keyframe against dropping them (PL-VIO), with
+// scarce points, 100 frames, seeds 1-3, the same input for both. Kept (the defaults): k0's pose
+// stays in the state while lines it observed do (retain_line_observer_poses), and no line ever
+// becomes a block of the prior (a retained pose beyond max_retained_poses drops its observations
+// of lines that stay). Room: one point track in ten, window 10. Corridor: one in forty, window 5
+// (at window 10 the corridor's kept/dropped differences are a few per cent, within the seed
+// noise of 3 seeds; 18 seeds: kept better on 14, docs/vo.md); the corridor case is disabled
+// (about a minute under the sanitizer; 6 s in Release): run it with
+// --gtest_also_run_disabled_tests --gtest_filter='*InTheCorridor'. Before (lines into the prior at
+// once) kept lost on all three rooms (0.0756 / 0.0438 / 0.0794 m against 0.0622 / 0.0372 / 0.0654).
+void ExpectKeptBeatsDropped(sim::SceneKind kind, int point_stride, int window_size, int frames) {
+  const char* scene = kind == sim::SceneKind::kRoom ? "room" : "corridor";
   double kept_sum = 0.0, dropped_sum = 0.0;
   int kept_wins = 0;
   SlidingWindowOptions keep;
-  keep.retain_line_observer_poses = true;
+  keep.window_size = window_size;
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-    const auto [kept, dropped] = RunKeptAndDropped(sim::SceneKind::kRoom, seed, 10, keep, 10);
-    ASSERT_TRUE(kept.initialized && dropped.initialized) << "seed " << seed;
+    const auto [kept, dropped] = RunKeptAndDropped(kind, seed, point_stride, keep, 30, frames);
+    ASSERT_TRUE(kept.initialized && dropped.initialized) << scene << " seed " << seed;
     std::printf(
-        "room seed %d, scarce points: ATE lines kept %.4f m (%d held), dropped %.4f m (%d line "
-        "observations dropped)\n",
-        static_cast<int>(seed), kept.ate_m, kept.line_obs_held, dropped.ate_m,
+        "%s seed %d, scarce points, %d frames, window %d: ATE lines kept %.4f m (%d held, %d "
+        "dropped "
+        "beyond the retained poses, at most %d retained), dropped %.4f m (%d line observations "
+        "dropped)\n",
+        scene, static_cast<int>(seed), frames, window_size, kept.ate_m, kept.line_obs_held,
+        kept.retained_line_obs_dropped, kept.max_retained_poses, dropped.ate_m,
         dropped.line_obs_dropped);
     EXPECT_EQ(kept.line_obs_dropped, 0);
     EXPECT_GT(kept.line_obs_held, 300);
+    EXPECT_GT(kept.max_retained_poses, 0);
+    EXPECT_EQ(kept.max_prior_lines, 0);  // no line is a block of the prior
     EXPECT_EQ(dropped.line_obs_held, 0);
+    EXPECT_EQ(dropped.max_retained_poses, 0);
     EXPECT_GT(dropped.line_obs_dropped, 300);
-    EXPECT_GT(kept.marginalized, 20);
+    EXPECT_GT(kept.marginalized, 10);
     kept_sum += kept.ate_m;
     dropped_sum += dropped.ate_m;
     kept_wins += kept.ate_m < dropped.ate_m;
   }
-  std::printf("mean ATE over 3 seeds: lines kept %.4f m, dropped %.4f m; kept better on %d\n",
-              kept_sum / 3, dropped_sum / 3, kept_wins);
+  std::printf("%s, mean ATE over 3 seeds: lines kept %.4f m, dropped %.4f m; kept better on %d\n",
+              scene, kept_sum / 3, dropped_sum / 3, kept_wins);
   EXPECT_LT(kept_sum, dropped_sum);
   EXPECT_GE(kept_wins, 2);
 }
 
-// The window-protocol table of docs/vo.md (seeds 1-10, room and corridor, three variants); too
+TEST(SlidingWindowEstimator, MarginalizationWithLinesKeptBeatsDropped) {
+  ExpectKeptBeatsDropped(sim::SceneKind::kRoom, 10, 10, 100);
+}
+
+TEST(SlidingWindowEstimator, DISABLED_MarginalizationWithLinesKeptBeatsDroppedInTheCorridor) {
+  ExpectKeptBeatsDropped(sim::SceneKind::kCorridor, 40, 5, 60);
+}
+
+// Two-sided sign test: the probability of a split at least as uneven as `wins` of `n` under
+// p = 1/2.
+double SignTestP(int wins, int n) {
+  double p = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    if (std::abs(2 * i - n) < std::abs(2 * wins - n)) continue;
+    p += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) -
+                  n * std::log(2.0));
+  }
+  return std::min(p, 1.0);
+}
+
+// The window-protocol table of docs/vo.md (seeds 1-20, paired: the same simulation and start
+// for kept and dropped; the variants of k0's line observations; room and corridor, window 10 and
+// 100 frames, and for the last two variants also 200 frames and the corridor at window 5). Too
 // slow for the suite (minutes): run it with
 //   build/dev/src/plucker/window/window_sliding_window_estimator_test
-//     --gtest_also_run_disabled_tests --gtest_filter='*KeptAgainstDroppedOverTenSeeds'
-TEST(SlidingWindowEstimator, DISABLED_KeptAgainstDroppedOverTenSeeds) {
-  SlidingWindowOptions retained, in_prior, poses_only;
+//     --gtest_also_run_disabled_tests --gtest_filter='*KeptAgainstDroppedOverTwentySeeds'
+TEST(SlidingWindowEstimator, DISABLED_KeptAgainstDroppedOverTwentySeeds) {
+  SlidingWindowOptions in_prior, overflow_into_prior, now;
   in_prior.retain_line_observer_poses = false;
-  poses_only.prior_blocks = SlidingWindowOptions::PriorBlocks::kPoses;
-  const std::pair<const char*, SlidingWindowOptions> variants[] = {
-      {"lines into the prior at once", in_prior},
-      {"retained poses (default)", retained},
-      {"poses-only prior", poses_only}};
-  const std::pair<sim::SceneKind, int> scenes[] = {{sim::SceneKind::kRoom, 10},
-                                                   {sim::SceneKind::kCorridor, 40}};
-  int runs = 0;
-  for (const auto& [name, options] : variants) {
-    for (const auto& [kind, stride] : scenes) {
-      double kept_sum = 0.0, dropped_sum = 0.0;
-      int started = 0, kept_wins = 0;
-      for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-        const auto [kept, dropped] = RunKeptAndDropped(kind, seed, stride, options, 30);
-        if (!kept.initialized || !dropped.initialized) continue;
-        ++started;
-        kept_sum += kept.ate_m;
-        dropped_sum += dropped.ate_m;
-        kept_wins += kept.ate_m < dropped.ate_m;
-      }
-      std::printf("%-30s %-8s %2d started: kept %.4f / dropped %.4f m, kept better on %d\n", name,
-                  kind == sim::SceneKind::kRoom ? "room" : "corridor", started,
-                  started ? kept_sum / started : 0.0, started ? dropped_sum / started : 0.0,
-                  kept_wins);
-      runs += started;
-    }
+  overflow_into_prior.max_retained_poses = 10;
+  overflow_into_prior.retained_overflow_into_prior = true;
+  struct Row {
+    const char* name;
+    SlidingWindowOptions options;
+    sim::SceneKind kind;
+    int window, frames;
+  };
+  const auto room = sim::SceneKind::kRoom, corridor = sim::SceneKind::kCorridor;
+  std::vector<Row> rows;
+  for (const auto& [name, options] :
+       {std::pair<const char*, SlidingWindowOptions>{"lines into the prior at once", in_prior},
+        {"retained, overflow into the prior", overflow_into_prior},
+        {"retained, no line in the prior", now}}) {
+    rows.push_back({name, options, room, 10, 100});
+    rows.push_back({name, options, corridor, 10, 100});
   }
-  EXPECT_GT(runs, 30);  // most of the 60 (variant, scene, seed) runs start
+  for (const auto& [name, options] : {std::pair<const char*, SlidingWindowOptions>{
+                                          "retained, overflow into the prior", overflow_into_prior},
+                                      {"retained, no line in the prior", now}}) {
+    rows.push_back({name, options, room, 10, 200});
+    rows.push_back({name, options, corridor, 10, 200});
+    rows.push_back({name, options, corridor, 5, 100});
+  }
+  int runs = 0;
+  for (Row row : rows) {
+    row.options.window_size = row.window;
+    std::vector<double> diff;  // dropped - kept, per seed that starts
+    double kept_sum = 0.0, dropped_sum = 0.0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      const int stride = row.kind == room ? 10 : 40;
+      const auto [kept, dropped] =
+          RunKeptAndDropped(row.kind, seed, stride, row.options, 30, row.frames);
+      if (!kept.initialized || !dropped.initialized) continue;
+      kept_sum += kept.ate_m;
+      dropped_sum += dropped.ate_m;
+      diff.push_back(dropped.ate_m - kept.ate_m);
+    }
+    const int n = static_cast<int>(diff.size());
+    runs += n;
+    if (n < 2) continue;
+    const int wins =
+        static_cast<int>(std::count_if(diff.begin(), diff.end(), [](double d) { return d > 0.0; }));
+    double mean = 0.0, var = 0.0;
+    for (double d : diff) mean += d / n;
+    for (double d : diff) var += (d - mean) * (d - mean) / (n - 1);
+    std::printf(
+        "%-34s %-8s w%-2d %3d frames %2d started: kept %.4f / dropped %.4f m, kept better on %2d "
+        "(sign test p %.3f), mean dropped - kept %+.4f m (paired t %+.2f)\n",
+        row.name, row.kind == room ? "room" : "corridor", row.window, row.frames, n, kept_sum / n,
+        dropped_sum / n, wins, SignTestP(wins, n), mean, mean / std::sqrt(var / n));
+    std::fflush(stdout);
+  }
+  EXPECT_GT(runs, 12 * 15);  // most of the 12 x 20 (row, seed) runs start
 }
 
 // Every frame gets an absolute pose prior drawn from its own distribution around the ground
