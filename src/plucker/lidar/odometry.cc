@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "plucker/factors/lidar_factors.h"
 #include "plucker/lidar/deskew.h"
 #include "plucker/lidar/pose_solver.h"
 #include "plucker/sensor/lidar_model.h"
@@ -210,7 +209,7 @@ class LidarOdometry::Impl {
   std::vector<double> azimuth;  // AssignRingsFromScanOrder's scratch
   std::vector<Match> planes, edges;
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
-  std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  LidarResiduals residuals;
   FeatureExtractor feature_extractor;  // these buffers are kept across scans (no heap churn)
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
@@ -354,13 +353,12 @@ void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) co
 // One solve from result->T_w_s, remapped to the prediction along degenerate directions.
 bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   const LidarOdometryOptions& o = options_;
-  auto& residuals = impl_->residuals;
-  residuals.clear();
+  LidarResiduals& residuals = impl_->residuals;  // values: no heap per correspondence
+  residuals.planes.clear(), residuals.edges.clear();
   for (const Match& m : impl_->planes)
-    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
+    residuals.planes.push_back(PlaneResidual::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
   for (const Match& m : impl_->edges)
-    residuals.emplace_back(
-        PointToEdgeFactor::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
+    residuals.edges.push_back(EdgeResidual::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
   PoseSolverOptions solver_options;
   solver_options.max_iterations = o.max_iterations;
   SE3d T_w_s = result->T_w_s;
