@@ -8,8 +8,9 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-// H += w J^T J and g += w J^T r for one residual of kRows rows with its tangent Jacobian J; adds
-// rho(|r|^2) to *total.
+using Vector1d = Eigen::Matrix<double, 1, 1>;
+
+// One residual r (tangent Jacobian J): H += w J^T J, g += w J^T r, *total += rho(|r|^2).
 template <int kRows>
 void AddResidual(const Eigen::Matrix<double, kRows, 6>& J, const Eigen::Matrix<double, kRows, 1>& r,
                  const ceres::LossFunction* loss, double* total, NormalEquations* eq) {
@@ -30,15 +31,11 @@ bool EvaluateNormalEquations(const LidarResiduals& residuals, const ceres::LossF
   const Eigen::Vector3d& t_w_s = T_w_s.translation();
   double total = 0.0;
   Eigen::Matrix<double, 1, 6> J_plane;
-  for (const PlaneResidual& f : residuals.planes) {
-    const Eigen::Matrix<double, 1, 1> r(f.Evaluate(R_w_s, t_w_s, &J_plane));
-    AddResidual<1>(J_plane, r, loss, &total, eq);
-  }
   Eigen::Matrix<double, 3, 6> J_edge;
-  for (const EdgeResidual& f : residuals.edges) {
-    const Eigen::Vector3d r = f.Evaluate(R_w_s, t_w_s, &J_edge);
-    AddResidual<3>(J_edge, r, loss, &total, eq);
-  }
+  for (const PlaneResidual& f : residuals.planes)
+    AddResidual<1>(J_plane, Vector1d(f.Evaluate(R_w_s, t_w_s, &J_plane)), loss, &total, eq);
+  for (const EdgeResidual& f : residuals.edges)
+    AddResidual<3>(J_edge, f.Evaluate(R_w_s, t_w_s, &J_edge), loss, &total, eq);
   eq->cost = 0.5 * total;
   return std::isfinite(total) && eq->H.allFinite() && eq->g.allFinite();
 }
