@@ -13,7 +13,7 @@ namespace {
 
 bool Finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
-void Require(bool ok, const char* factor, const std::string& what) {
+void Require(bool ok, const char* factor, const char* what) {  // no string unless it throws
   if (!ok) throw std::invalid_argument(std::string(factor) + ": " + what);
 }
 
@@ -63,15 +63,25 @@ lidar_residuals::PointToEdge lidar_residuals::MakePointToEdge(const char* factor
   return {p_s, a_w, u, CheckSigma(factor, sigma)};
 }
 
-// ---------------------------------------------------------------- PointToPlaneFactor
+PlaneResidual PlaneResidual::Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
+                                    const Eigen::Vector3d& q_w, double sigma) {
+  const lidar_residuals::PointToPlane f = MakePlane(p_s, m_w, q_w, sigma);
+  return {f.p_s, f.m_w * f.inv_sigma, f.m_w.dot(f.q_w) * f.inv_sigma};
+}
 
-PointToPlaneFactor::PointToPlaneFactor(const lidar_residuals::PointToPlane& f)
-    : p_s_(f.p_s), m_scaled_(f.m_w * f.inv_sigma), offset_(f.m_w.dot(f.q_w) * f.inv_sigma) {}
+EdgeResidual EdgeResidual::CreateFromDirection(const Eigen::Vector3d& p_s,
+                                               const Eigen::Vector3d& a_w,
+                                               const Eigen::Vector3d& u_w, double sigma) {
+  const lidar_residuals::PointToEdge f = MakeEdgeFromDirection(kEdge, p_s, a_w, u_w, sigma);
+  return {f.p_s, f.u_w * f.inv_sigma, f.a_w};
+}
+
+// ---------------------------------------------------------------- PointToPlaneFactor
 
 ceres::CostFunction* PointToPlaneFactor::Create(const Eigen::Vector3d& p_s,
                                                 const Eigen::Vector3d& m_w,
                                                 const Eigen::Vector3d& q_w, double sigma) {
-  return new PointToPlaneFactor(MakePlane(p_s, m_w, q_w, sigma));
+  return new PointToPlaneFactor(PlaneResidual::Create(p_s, m_w, q_w, sigma));
 }
 
 ceres::CostFunction* PointToPlaneFactor::CreateAutoDiff(const Eigen::Vector3d& p_s,
@@ -87,33 +97,29 @@ bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* resid
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   if (!pose_block::Read(parameters[0], &q, &R, &t)) return false;
-  // r = m.(R p + t) - m.q = (R^T m).p + m.t - m.q  (m already divided by sigma).
-  const Eigen::Vector3d m_s = R.transpose() * m_scaled_;
-  residuals[0] = m_s.dot(p_s_) + m_scaled_.dot(t) - offset_;
-  if (jacobians && jacobians[0]) {
-    // d r/d dtheta = -m^T R [p]x = (p x R^T m)^T;  d r/d dt = m^T.
-    const Eigen::Matrix<double, 1, 3> J_rot = p_s_.cross(m_s).transpose();
-    pose_block::WriteAmbient<1>(J_rot, m_scaled_.transpose(), q, jacobians[0]);
-  }
+  Eigen::Matrix<double, 1, 6> J;
+  const bool with_jacobian = jacobians && jacobians[0];
+  residuals[0] = r_.Evaluate(R, t, with_jacobian ? &J : nullptr);
+  if (with_jacobian)
+    pose_block::WriteAmbient<1>(J.leftCols<3>(), J.rightCols<3>(), q, jacobians[0]);
   return true;
 }
 
 // ---------------------------------------------------------------- PointToEdgeFactor
 
-PointToEdgeFactor::PointToEdgeFactor(const lidar_residuals::PointToEdge& f)
-    : p_s_(f.p_s), u_scaled_(f.u_w * f.inv_sigma), a_w_(f.a_w) {}
-
 ceres::CostFunction* PointToEdgeFactor::Create(const Eigen::Vector3d& p_s,
                                                const Eigen::Vector3d& a_w,
                                                const Eigen::Vector3d& b_w, double sigma) {
-  return new PointToEdgeFactor(lidar_residuals::MakePointToEdge(kEdge, p_s, a_w, b_w, sigma));
+  const lidar_residuals::PointToEdge f =
+      lidar_residuals::MakePointToEdge(kEdge, p_s, a_w, b_w, sigma);
+  return new PointToEdgeFactor({f.p_s, f.u_w * f.inv_sigma, f.a_w});
 }
 
 ceres::CostFunction* PointToEdgeFactor::CreateFromDirection(const Eigen::Vector3d& p_s,
                                                             const Eigen::Vector3d& a_w,
                                                             const Eigen::Vector3d& u_w,
                                                             double sigma) {
-  return new PointToEdgeFactor(MakeEdgeFromDirection(kEdge, p_s, a_w, u_w, sigma));
+  return new PointToEdgeFactor(EdgeResidual::CreateFromDirection(p_s, a_w, u_w, sigma));
 }
 
 ceres::CostFunction* PointToEdgeFactor::CreateAutoDiff(const Eigen::Vector3d& p_s,
@@ -130,19 +136,11 @@ bool PointToEdgeFactor::Evaluate(double const* const* parameters, double* residu
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   if (!pose_block::Read(parameters[0], &q, &R, &t)) return false;
-  const Eigen::Vector3d Rp = R * p_s_;
-  Eigen::Map<Eigen::Vector3d> r(residuals);
-  r = u_scaled_.cross(Rp + t - a_w_);
-  if (jacobians && jacobians[0]) {
-    // d r/d p_w = [u]x;  d r/d dtheta = -[u]x R [p]x = -R [R^T u]x [p]x
-    //   = (R^T u . p) R - (R p)(R^T u)^T;   d r/d dt = [u]x.
-    const Eigen::Vector3d u_s = R.transpose() * u_scaled_;
-    const Eigen::Matrix3d J_rot = u_s.dot(p_s_) * R - Rp * u_s.transpose();
-    Eigen::Matrix3d J_t;
-    J_t << 0.0, -u_scaled_.z(), u_scaled_.y(), u_scaled_.z(), 0.0, -u_scaled_.x(), -u_scaled_.y(),
-        u_scaled_.x(), 0.0;
-    pose_block::WriteAmbient<3>(J_rot, J_t, q, jacobians[0]);
-  }
+  Eigen::Matrix<double, 3, 6> J;
+  const bool with_jacobian = jacobians && jacobians[0];
+  Eigen::Vector3d::Map(residuals) = r_.Evaluate(R, t, with_jacobian ? &J : nullptr);
+  if (with_jacobian)
+    pose_block::WriteAmbient<3>(J.leftCols<3>(), J.rightCols<3>(), q, jacobians[0]);
   return true;
 }
 

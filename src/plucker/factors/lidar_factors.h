@@ -72,6 +72,45 @@ PointToEdge MakePointToEdge(const char* factor, const Eigen::Vector3d& p_s,
 
 }  // namespace lidar_residuals
 
+// The residuals of the two factors below as values, with their tangent Jacobians d r/d(dtheta,
+// dt) at (R_w_s, t_w_s): the one place these Jacobians are written. The factors' Evaluate turns
+// them into ambient ones (pose_block::WriteAmbient); the LiDAR pose solver (lidar/pose_solver.h)
+// sums them straight into its 6x6 normal equations, with no cost function per correspondence.
+// Create() validates as the factors' Create() does (same errors).
+struct PlaneResidual {
+  Eigen::Vector3d p_s, m_scaled;  // m_scaled = m_w / sigma
+  double offset;                  // m_w . q_w / sigma
+  static PlaneResidual Create(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w,
+                              const Eigen::Vector3d& q_w, double sigma);
+  // r = m.(R p + t) - m.q = (R^T m).p + m.t - m.q;  d r/d dtheta = -m^T R [p]x = (p x R^T m)^T,
+  // d r/d dt = m^T.
+  double Evaluate(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                  Eigen::Matrix<double, 1, 6>* J) const {
+    const Eigen::Vector3d m_s = R.transpose() * m_scaled;
+    if (J) *J << p_s.cross(m_s).transpose(), m_scaled.transpose();
+    return m_s.dot(p_s) + m_scaled.dot(t) - offset;
+  }
+};
+
+struct EdgeResidual {
+  Eigen::Vector3d p_s, u_scaled, a_w;  // u_scaled = u_w / sigma
+  static EdgeResidual CreateFromDirection(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w,
+                                          const Eigen::Vector3d& u_w, double sigma);
+  // r = u x (R p + t - a);  d r/d p_w = [u]x;  d r/d dtheta = -[u]x R [p]x = -R [R^T u]x [p]x
+  //   = (R^T u . p) R - (R p)(R^T u)^T;  d r/d dt = [u]x.
+  Eigen::Vector3d Evaluate(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                           Eigen::Matrix<double, 3, 6>* J) const {
+    const Eigen::Vector3d Rp = R * p_s;
+    if (J) {
+      const Eigen::Vector3d u_s = R.transpose() * u_scaled;
+      const Eigen::Vector3d& u = u_scaled;
+      J->leftCols<3>() = u_s.dot(p_s) * R - Rp * u_s.transpose();
+      J->rightCols<3>() << 0.0, -u.z(), u.y(), u.z(), 0.0, -u.x(), -u.y(), u.x(), 0.0;
+    }
+    return u_scaled.cross(Rp + t - a_w);
+  }
+};
+
 // r = m_w . (p_w - q_w) / sigma; the signed point-to-plane distance in units of sigma.
 class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7> {
  public:
@@ -84,9 +123,8 @@ class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7> {
                 double** jacobians) const override;
 
  private:
-  explicit PointToPlaneFactor(const lidar_residuals::PointToPlane& f);
-  Eigen::Vector3d p_s_, m_scaled_;  // m_scaled = m / sigma
-  double offset_;                   // m . q / sigma
+  explicit PointToPlaneFactor(const PlaneResidual& r) : r_(r) {}
+  PlaneResidual r_;
 };
 
 // r = Y / sigma with Y = (p_w - b) x (p_w - a)/|a - b| = u x (p_w - a); |r| = distance / sigma.
@@ -106,8 +144,8 @@ class PointToEdgeFactor : public ceres::SizedCostFunction<3, 7> {
                 double** jacobians) const override;
 
  private:
-  explicit PointToEdgeFactor(const lidar_residuals::PointToEdge& f);
-  Eigen::Vector3d p_s_, u_scaled_, a_w_;  // u_scaled = u / sigma
+  explicit PointToEdgeFactor(const EdgeResidual& r) : r_(r) {}
+  EdgeResidual r_;
 };
 
 }  // namespace plucker

@@ -83,6 +83,51 @@ TEST(LidarFactors, CreateRejectsBadInput) {
   edge_cases(verify::PointToEdgeScalarFactor::CreateAutoDiff);
 }
 
+// The value residuals that the LiDAR pose solver sums (PlaneResidual, EdgeResidual) are the
+// factors' residuals: the same r, a tangent Jacobian that the ambient one maps back to through
+// PoseManifold::PlusJacobian, and the same construction errors.
+TEST(LidarFactors, ValueResidualsAreTheFactorsInTheTangent) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const PoseManifold manifold;
+  int compared = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    const SE3d T(ExpSO3<double>(Vector3d(u(rng), u(rng), u(rng))),
+                 Vector3d(5 * u(rng), 5 * u(rng), u(rng)));
+    const Vector3d p(10 * u(rng), 10 * u(rng), 2 * u(rng)), q(u(rng), u(rng), u(rng));
+    const Vector3d m = Vector3d(u(rng), u(rng), u(rng)).normalized();
+    double x[7];
+    T.ToParameters(x);
+    Eigen::Matrix<double, 7, 6, Eigen::RowMajor> P;
+    ASSERT_TRUE(manifold.PlusJacobian(x, P.data()));
+    const Eigen::Matrix3d R = T.RotationMatrix();
+    Eigen::Matrix<double, 1, 6> J_plane;
+    const double r_plane =
+        PlaneResidual::Create(p, m, q, 0.05).Evaluate(R, T.translation(), &J_plane);
+    const Eval plane = Evaluate(*CostPtr(PointToPlaneFactor::Create(p, m, q, 0.05)), x);
+    ASSERT_TRUE(plane.ok);
+    EXPECT_NEAR(r_plane, plane.r(0), 1e-10 * (1 + std::abs(r_plane)));
+    EXPECT_LT((J_plane - plane.J * P).norm(), 1e-10 * (1 + J_plane.norm()));
+    Eigen::Matrix<double, 3, 6> J_edge;
+    const Vector3d r_edge =
+        EdgeResidual::CreateFromDirection(p, q, m, 0.05).Evaluate(R, T.translation(), &J_edge);
+    const Eval edge = Evaluate(*CostPtr(PointToEdgeFactor::CreateFromDirection(p, q, m, 0.05)), x);
+    ASSERT_TRUE(edge.ok);
+    EXPECT_LT((r_edge - edge.r).norm(), 1e-10 * (1 + r_edge.norm()));
+    EXPECT_LT((J_edge - edge.J * P).norm(), 1e-10 * (1 + J_edge.norm()));
+    compared += 2;
+  }
+  EXPECT_EQ(compared, 200);
+  const Vector3d p(1, 2, 3), a(0, 0, 0), m(0, 0, 1), nan(kNaN, 0, 0);
+  EXPECT_THROW(PlaneResidual::Create(nan, m, a, 1.0), std::invalid_argument);
+  EXPECT_THROW(PlaneResidual::Create(p, Vector3d(0, 0, 2), a, 1.0), std::invalid_argument);
+  EXPECT_THROW(PlaneResidual::Create(p, m, a, 0.0), std::invalid_argument);
+  EXPECT_THROW(EdgeResidual::CreateFromDirection(p, nan, m, 1.0), std::invalid_argument);
+  EXPECT_THROW(EdgeResidual::CreateFromDirection(p, a, Vector3d::Zero(), 1.0),
+               std::invalid_argument);
+  EXPECT_THROW(EdgeResidual::CreateFromDirection(p, a, m, -1.0), std::invalid_argument);
+}
+
 TEST(LidarFactors, EvaluateRejectsNonFiniteOrZeroQuaternion) {
   const Vector3d p(1, 2, 3), a(0, 0, 0), b(1, 0, 0), m(0, 0, 1);
   std::vector<CostPtr> factors;

@@ -17,16 +17,16 @@ namespace {
 // their normal equations as SolvePose returns them (no robust loss here: every weight is 1).
 struct Rows {
   SE3d T_w_s;
-  std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  LidarResiduals residuals;
   int rows = 0;
   // A point-to-plane row at p_s with the world normal m_w (the plane passes through T_w_s p_s).
   void AddPlane(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w, double sigma) {
-    residuals.emplace_back(PointToPlaneFactor::Create(p_s, m_w, T_w_s * p_s, sigma));
+    residuals.planes.push_back(PlaneResidual::Create(p_s, m_w, T_w_s * p_s, sigma));
     rows += 1;
   }
   // A point-to-edge block for the world line through T_w_s p_s with direction u_w (rank 2).
   void AddEdge(const Eigen::Vector3d& p_s, const Eigen::Vector3d& u_w, double sigma) {
-    residuals.emplace_back(PointToEdgeFactor::CreateFromDirection(p_s, T_w_s * p_s, u_w, sigma));
+    residuals.edges.push_back(EdgeResidual::CreateFromDirection(p_s, T_w_s * p_s, u_w, sigma));
     rows += 2;
   }
   DegeneracyInfo Analyse(const DegeneracyCriterion& criterion) const {

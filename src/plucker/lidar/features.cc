@@ -62,7 +62,7 @@ struct RingScratch {
   std::vector<Eigen::Vector3d> p, prefix;  // the ring's points (gathered), their prefix sums
   std::vector<double> depth, curvature;
   std::vector<char> picked, label;
-  std::vector<int> order;
+  std::vector<std::pair<double, int>> order;  // edge candidates: curvature, index
 };
 
 void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOptions& o,
@@ -101,8 +101,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   // Unreliable points (LOAM): occlusion boundaries and surfaces parallel to the beam.
   std::vector<char>& picked = scratch->picked;
   std::vector<char>& label = scratch->label;
-  picked.assign(n, 0);
-  label.assign(n, 0);
+  picked.assign(n, 0), label.assign(n, 0);
   for (int i = k; i < n - k - 1; ++i) {
     const double d1 = depth[i], d2 = depth[i + 1];
     const double jump = std::abs(d1 - d2) / std::min(d1, d2);
@@ -134,20 +133,25 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     }
   };
 
-  std::vector<int>& order = scratch->order;
+  auto& order = scratch->order;
   const int usable = n - 2 * k;
   for (int s = 0; s < o.sectors; ++s) {
     const int begin = k + usable * s / o.sectors;
     const int end = k + usable * (s + 1) / o.sectors;  // exclusive
     if (end <= begin) continue;
-    // Edge candidates (curvature above the threshold, usually few), strongest first.
-    order.clear();
-    for (int i = begin; i < end; ++i)
-      if (curvature[i] > o.edge_threshold && !picked[i]) order.push_back(i);
+    // Edge candidates (curvature above the threshold, usually few), strongest first; gathered
+    // without branches, sorted with their curvatures beside them (no lookups in the comparisons).
+    order.resize(end - begin);
+    int candidates = 0;
+    for (int i = begin; i < end; ++i) {
+      order[candidates] = {curvature[i], i};
+      candidates += (curvature[i] > o.edge_threshold) & (picked[i] == 0);
+    }
+    order.resize(candidates);
     std::sort(order.begin(), order.end(),
-              [&](int a, int b) { return curvature[a] > curvature[b]; });
+              [](const auto& a, const auto& b) { return a.first > b.first; });
     int count = 0;
-    for (const int i : order) {
+    for (const auto& [c, i] : order) {
       if (picked[i]) continue;
       ++count;
       if (count > o.max_edges_per_sector) break;
@@ -165,14 +169,14 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     int size = kShortList, next = kShortList;  // all used up: filled for the first pick
     auto fill = [&] {
       size = next = 0;
+      double bound = o.plane_threshold;  // a candidate is below (full list: below its last)
       for (int i = begin; i < end; ++i) {
         const double c = curvature[i];
-        if (c >= o.plane_threshold || picked[i] ||
-            (size == kShortList && c >= curvature[list[size - 1]]))
-          continue;
+        if (c >= bound || picked[i]) continue;
         int j = size < kShortList ? size++ : size - 1;
         for (; j > 0 && c < curvature[list[j - 1]]; --j) list[j] = list[j - 1];
         list[j] = i;
+        if (size == kShortList) bound = curvature[list[size - 1]];
       }
     };
     for (count = 0; count < o.max_flat_per_sector; ++count) {

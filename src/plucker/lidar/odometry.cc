@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "plucker/factors/lidar_factors.h"
 #include "plucker/lidar/deskew.h"
 #include "plucker/lidar/pose_solver.h"
 #include "plucker/sensor/lidar_model.h"
@@ -117,9 +116,7 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale) {
   return nullptr;
 }
 
-void Notify(const StageObserver& observer, Stage stage) {
-  if (observer) observer(stage);
-}
+void Notify(const StageObserver& observer, Stage stage) { observer ? observer(stage) : void(); }
 
 // The scan's features capped to max_edge_points / max_plane_points (times when deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
@@ -182,12 +179,12 @@ class LidarOdometry::Impl {
     const double max_d = std::min(o.max_correspondence_distance, plane_map.options().voxel_size);
     const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
     const Eigen::Vector3d t_w_s = T_w_s.translation();
-    if (first_round) plane_cache.assign(points_s.planes.size(), {});
-    if (first_round) edge_cache.assign(points_s.edges.size(), {});
+    plane_cache.resize(points_s.planes.size()), edge_cache.resize(points_s.edges.size());
     auto match = [&](bool plane, std::size_t i, std::vector<Eigen::Vector3d>* nb, Match* m) {
       NeighbourCache& c = (plane ? plane_cache : edge_cache)[i];
       const Eigen::Vector3d& p_s = (plane ? points_s.planes : points_s.edges)[i];
       const VoxelMap& map = plane ? plane_map : edge_map;
+      if (first_round) c.n = 0, c.reach = 0.0f;  // a reset (no 1 MB memset per scan)
       const double d = std::min(max_d, map.options().voxel_size);
       const unsigned set = Nearest(map, R_w_s * p_s + t_w_s, k, d, &c, nb);
       if (static_cast<int>(nb->size()) < k) return false;
@@ -210,7 +207,7 @@ class LidarOdometry::Impl {
   std::vector<double> azimuth;  // AssignRingsFromScanOrder's scratch
   std::vector<Match> planes, edges;
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
-  std::vector<std::unique_ptr<ceres::CostFunction>> residuals;
+  LidarResiduals residuals;
   FeatureExtractor feature_extractor;  // these buffers are kept across scans (no heap churn)
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
@@ -354,15 +351,13 @@ void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) co
 // One solve from result->T_w_s, remapped to the prediction along degenerate directions.
 bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   const LidarOdometryOptions& o = options_;
-  auto& residuals = impl_->residuals;
-  residuals.clear();
+  LidarResiduals& residuals = impl_->residuals;  // values: no heap per correspondence
+  residuals.planes.clear(), residuals.edges.clear();
   for (const Match& m : impl_->planes)
-    residuals.emplace_back(PointToPlaneFactor::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
+    residuals.planes.push_back(PlaneResidual::Create(m.p_s, m.d_w, m.x_w, o.plane_sigma));
   for (const Match& m : impl_->edges)
-    residuals.emplace_back(
-        PointToEdgeFactor::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
-  PoseSolverOptions solver_options;
-  solver_options.max_iterations = o.max_iterations;
+    residuals.edges.push_back(EdgeResidual::CreateFromDirection(m.p_s, m.x_w, m.d_w, o.edge_sigma));
+  const PoseSolverOptions solver_options{o.max_iterations};
   SE3d T_w_s = result->T_w_s;
   const PoseSolverSummary summary = SolvePose(residuals, impl_->loss.get(), solver_options, &T_w_s);
   result->solver_iterations += summary.iterations;

@@ -4,61 +4,44 @@
 #include <algorithm>
 #include <cmath>
 
-#include "plucker/factors/pose_manifold.h"
-
 namespace plucker {
 namespace lidar {
 namespace {
 
-constexpr int kMaxRows = 3;  // largest residual block of the LiDAR factors
+using Vector1d = Eigen::Matrix<double, 1, 1>;
 
-using AmbientJacobian = Eigen::Matrix<double, kMaxRows, 7, Eigen::RowMajor>;
-using PlusJacobian = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
-
-// H += w J^T J and g += w J^T r for one residual block of kRows rows, J = J_ambient P (tangent).
+// One residual r (tangent Jacobian J): H += w J^T J, g += w J^T r, *total += rho(|r|^2).
 template <int kRows>
-void AddBlock(const AmbientJacobian& J_ambient, const PlusJacobian& P, const double* r, double w,
-              NormalEquations* eq) {
-  const Eigen::Matrix<double, kRows, 6> J = J_ambient.topRows<kRows>() * P;
-  eq->H.noalias() += (w * J.transpose()) * J;
-  eq->g.noalias() += (w * J.transpose()) * Eigen::Matrix<double, kRows, 1>::Map(r);
+void AddResidual(const Eigen::Matrix<double, kRows, 6>& J, const Eigen::Matrix<double, kRows, 1>& r,
+                 const ceres::LossFunction* loss, double* total, NormalEquations* eq) {
+  double rho[3] = {r.squaredNorm(), 1.0, 0.0};  // rho(s) = s
+  if (loss != nullptr) loss->Evaluate(rho[0], rho);
+  *total += rho[0];
+  eq->H.noalias() += (rho[1] * J.transpose()) * J;
+  eq->g.noalias() += (rho[1] * J.transpose()) * r;
+  eq->num_residuals += kRows;
 }
 
 }  // namespace
 
-bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
-                             const ceres::LossFunction* loss, const SE3d& T_w_s,
-                             NormalEquations* eq) {
+bool EvaluateNormalEquations(const LidarResiduals& residuals, const ceres::LossFunction* loss,
+                             const SE3d& T_w_s, NormalEquations* eq) {
   *eq = NormalEquations();
-  double x[7];
-  T_w_s.ToParameters(x);
-  const double* parameters[1] = {x};
-  PlusJacobian plus_jacobian;
-  const PoseManifold manifold;
-  manifold.PlusJacobian(x, plus_jacobian.data());
-  AmbientJacobian J_ambient;
-  double* jacobians[1] = {J_ambient.data()};
-  double r[kMaxRows];
+  const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
+  const Eigen::Vector3d& t_w_s = T_w_s.translation();
   double total = 0.0;
-  for (const auto& f : residuals) {
-    const int rows = f->num_residuals();
-    if (rows > kMaxRows || !f->Evaluate(parameters, r, jacobians)) return false;
-    double rho[3] = {Eigen::VectorXd::Map(r, rows).squaredNorm(), 1.0, 0.0};  // rho(s) = s
-    if (loss != nullptr) loss->Evaluate(rho[0], rho);
-    total += rho[0];
-    const double w = rho[1];
-    if (rows == 1) AddBlock<1>(J_ambient, plus_jacobian, r, w, eq);
-    if (rows == 2) AddBlock<2>(J_ambient, plus_jacobian, r, w, eq);
-    if (rows == 3) AddBlock<3>(J_ambient, plus_jacobian, r, w, eq);
-    eq->num_residuals += rows;
-  }
+  Eigen::Matrix<double, 1, 6> J_plane;
+  Eigen::Matrix<double, 3, 6> J_edge;
+  for (const PlaneResidual& f : residuals.planes)
+    AddResidual<1>(J_plane, Vector1d(f.Evaluate(R_w_s, t_w_s, &J_plane)), loss, &total, eq);
+  for (const EdgeResidual& f : residuals.edges)
+    AddResidual<3>(J_edge, f.Evaluate(R_w_s, t_w_s, &J_edge), loss, &total, eq);
   eq->cost = 0.5 * total;
   return std::isfinite(total) && eq->H.allFinite() && eq->g.allFinite();
 }
 
-PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
-                            const ceres::LossFunction* loss, const PoseSolverOptions& options,
-                            SE3d* T_w_s) {
+PoseSolverSummary SolvePose(const LidarResiduals& residuals, const ceres::LossFunction* loss,
+                            const PoseSolverOptions& options, SE3d* T_w_s) {
   PoseSolverSummary summary;
   if (residuals.empty()) {
     summary.message = "no residuals";
@@ -66,7 +49,7 @@ PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunctio
   }
   NormalEquations& eq = summary.normal_equations;  // always at *T_w_s
   if (!EvaluateNormalEquations(residuals, loss, *T_w_s, &eq)) {
-    summary.message = "a residual failed to evaluate at the initial pose";
+    summary.message = "non-finite normal equations at the initial pose";
     return summary;
   }
   summary.initial_cost = eq.cost;

@@ -1,19 +1,20 @@
 // Robust Levenberg-Marquardt over one scan pose T_w_s, for scan-to-map registration.
 //
-// Minimises F(T) = 1/2 sum_i rho(|r_i(T)|^2), each r_i a ceres::CostFunction of at most 3 rows on
-// the 7-value pose block (factors/lidar_factors.h), rho a ceres::LossFunction (nullptr: rho(s) =
-// s), in the tangent of the PoseManifold: each iteration solves (H + lambda diag(H)) dx = -g and
-// keeps the step when F decreases (lambda / 10), else lambda * 10. ceres::Solve reaches the same
-// minimum (PoseSolverTest.MatchesCeresSolve) at several ms more per scan.
+// Minimises F(T) = 1/2 sum_i rho(|r_i(T)|^2), each r_i a point-to-plane or point-to-edge residual
+// (PlaneResidual, EdgeResidual: factors/lidar_factors.h, the values behind PointToPlaneFactor and
+// PointToEdgeFactor, whose tangent Jacobians are summed straight into the normal equations), rho
+// a ceres::LossFunction (nullptr: rho(s) = s), in the tangent of the PoseManifold: each iteration
+// solves (H + lambda diag(H)) dx = -g and keeps the step when F decreases (lambda / 10), else
+// lambda * 10. ceres::Solve over the factors reaches the same minimum
+// (PoseSolverTest.MatchesCeresSolve) at several ms more per scan.
 #pragma once
 
-#include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 
-#include <memory>
 #include <string>
 #include <vector>
 
+#include "plucker/factors/lidar_factors.h"
 #include "plucker/geometry/se3.h"
 
 namespace plucker {
@@ -28,6 +29,12 @@ struct PoseSolverOptions {
 
 // The reweighted normal equations of the residuals at one pose, in the tangent (dtheta, dt):
 //   H = sum_i w_i J_i^T J_i,  g = sum_i w_i J_i^T r_i,  w_i = rho'(|r_i|^2),  cost = F(T).
+struct LidarResiduals {  // planes first, then edges (the order of summation)
+  std::vector<PlaneResidual> planes;
+  std::vector<EdgeResidual> edges;
+  bool empty() const { return planes.empty() && edges.empty(); }
+};
+
 struct NormalEquations {
   Matrix6d H = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
@@ -36,12 +43,11 @@ struct NormalEquations {
 };
 
 // False when a residual fails to evaluate or the cost, H or g is not finite.
-bool EvaluateNormalEquations(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
-                             const ceres::LossFunction* loss, const SE3d& T_w_s,
-                             NormalEquations* normal_equations);
+bool EvaluateNormalEquations(const LidarResiduals& residuals, const ceres::LossFunction* loss,
+                             const SE3d& T_w_s, NormalEquations* normal_equations);
 
 struct PoseSolverSummary {
-  bool usable = false;  // false: a residual failed to evaluate or the normal equations are singular
+  bool usable = false;  // false: non-finite normal equations, or singular ones
   std::string message;  // why not usable
   int iterations = 0;
   double initial_cost = 0.0, final_cost = 0.0;
@@ -49,9 +55,8 @@ struct PoseSolverSummary {
   NormalEquations normal_equations;
 };
 
-PoseSolverSummary SolvePose(const std::vector<std::unique_ptr<ceres::CostFunction>>& residuals,
-                            const ceres::LossFunction* loss, const PoseSolverOptions& options,
-                            SE3d* T_w_s);
+PoseSolverSummary SolvePose(const LidarResiduals& residuals, const ceres::LossFunction* loss,
+                            const PoseSolverOptions& options, SE3d* T_w_s);
 
 }  // namespace lidar
 }  // namespace plucker

@@ -13,7 +13,21 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-using Residuals = std::vector<std::unique_ptr<ceres::CostFunction>>;
+// The same residuals as the solver's values and as the factors (for ceres::Solve and Evaluate).
+struct Residuals {
+  LidarResiduals values;
+  std::vector<std::unique_ptr<ceres::CostFunction>> factors;
+  void AddPlane(const Eigen::Vector3d& p_s, const Eigen::Vector3d& m_w, const Eigen::Vector3d& q_w,
+                double sigma) {
+    values.planes.push_back(PlaneResidual::Create(p_s, m_w, q_w, sigma));
+    factors.emplace_back(PointToPlaneFactor::Create(p_s, m_w, q_w, sigma));
+  }
+  void AddEdge(const Eigen::Vector3d& p_s, const Eigen::Vector3d& a_w, const Eigen::Vector3d& u_w,
+               double sigma) {
+    values.edges.push_back(EdgeResidual::CreateFromDirection(p_s, a_w, u_w, sigma));
+    factors.emplace_back(PointToEdgeFactor::CreateFromDirection(p_s, a_w, u_w, sigma));
+  }
+};
 
 // Plane and edge correspondences of scan points seen from T_w_s_gt: points on six planes of
 // different orientations and on four lines, with range noise and a share of gross outliers.
@@ -31,13 +45,13 @@ Residuals MakeProblem(const SE3d& T_w_s_gt, double noise, double outlier_share, 
     Eigen::Vector3d p_w = q_w + 3 * u(*rng) * tangent + 3 * u(*rng) * m_w.cross(tangent);
     p_w += noise * n(*rng) * m_w;
     if (u(*rng) < 2 * outlier_share - 1) p_w += 2.0 * Eigen::Vector3d(u(*rng), u(*rng), u(*rng));
-    residuals.emplace_back(PointToPlaneFactor::Create(T_s_w * p_w, m_w, q_w, 0.05));
+    residuals.AddPlane(T_s_w * p_w, m_w, q_w, 0.05);
   }
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d a_w(10 * u(*rng), 10 * u(*rng), u(*rng));
     const Eigen::Vector3d dir = Eigen::Vector3d(u(*rng), u(*rng), u(*rng)).normalized();
     Eigen::Vector3d p_w = a_w + 2 * u(*rng) * dir + noise * Eigen::Vector3d(n(*rng), n(*rng), 0);
-    residuals.emplace_back(PointToEdgeFactor::Create(T_s_w * p_w, a_w, a_w + dir, 0.2));
+    residuals.AddEdge(T_s_w * p_w, a_w, dir, 0.2);
   }
   return residuals;
 }
@@ -61,7 +75,7 @@ TEST(PoseSolverTest, ConvergesToTheTruePoseWithoutNoise) {
     options.max_iterations = 30;
     options.function_tolerance = 0.0;
     options.step_tolerance = 1e-12;
-    const PoseSolverSummary summary = SolvePose(residuals, nullptr, options, &T);
+    const PoseSolverSummary summary = SolvePose(residuals.values, nullptr, options, &T);
     ASSERT_TRUE(summary.usable) << summary.message;
     EXPECT_LT(T.Minus(T_w_s_gt).norm(), 1e-8) << "trial " << trial;
     EXPECT_LT(summary.final_cost, 1e-12);
@@ -89,7 +103,7 @@ TEST(PoseSolverTest, MatchesCeresSolveWithRobustLoss) {
       options.max_iterations = 100;
       options.function_tolerance = 1e-15;
       options.step_tolerance = 1e-14;
-      const PoseSolverSummary summary = SolvePose(residuals, loss.get(), options, &T);
+      const PoseSolverSummary summary = SolvePose(residuals.values, loss.get(), options, &T);
       ASSERT_TRUE(summary.usable) << summary.message;
 
       double x[7];
@@ -102,7 +116,7 @@ TEST(PoseSolverTest, MatchesCeresSolveWithRobustLoss) {
       PoseManifold manifold;
       problem.AddParameterBlock(x, 7);
       problem.SetManifold(x, &manifold);
-      for (const auto& f : residuals) problem.AddResidualBlock(f.get(), loss.get(), x);
+      for (const auto& f : residuals.factors) problem.AddResidualBlock(f.get(), loss.get(), x);
       ceres::Solver::Options solver_options;
       solver_options.linear_solver_type = ceres::DENSE_QR;
       solver_options.max_num_iterations = 200;
@@ -127,11 +141,10 @@ TEST(PoseSolverTest, AllPlanesParallelLeavesTheUnobservedDirectionsAlone) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   for (int i = 0; i < 200; ++i)
-    residuals.emplace_back(PointToPlaneFactor::Create(Eigen::Vector3d(u(rng), u(rng), -0.3),
-                                                      Eigen::Vector3d::UnitZ(),
-                                                      Eigen::Vector3d::Zero(), 0.05));
+    residuals.AddPlane(Eigen::Vector3d(u(rng), u(rng), -0.3), Eigen::Vector3d::UnitZ(),
+                       Eigen::Vector3d::Zero(), 0.05);
   SE3d T(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1.0, 2.0, 0.0));
-  const PoseSolverSummary summary = SolvePose(residuals, nullptr, PoseSolverOptions(), &T);
+  const PoseSolverSummary summary = SolvePose(residuals.values, nullptr, PoseSolverOptions(), &T);
   ASSERT_TRUE(summary.usable) << summary.message;
   EXPECT_NEAR(T.translation().z(), 0.3, 1e-6);
   EXPECT_NEAR(T.translation().x(), 1.0, 1e-6);
@@ -139,9 +152,9 @@ TEST(PoseSolverTest, AllPlanesParallelLeavesTheUnobservedDirectionsAlone) {
   EXPECT_TRUE(T.rotation().coeffs().allFinite());
 }
 
-// The normal equations are formed from the factors' ambient Jacobians through
-// PoseManifold::PlusJacobian: compare H = J^T J and g = J^T r with central differences of the
-// residuals through SE3d::Plus (the tangent that SolvePose steps in).
+// The normal equations are formed from the residuals' tangent Jacobians: compare H = J^T J and
+// g = J^T r with central differences of the factors' residuals through SE3d::Plus (the tangent
+// that SolvePose steps in).
 TEST(PoseSolverTest, NormalEquationsMatchCentralDifferences) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -153,17 +166,18 @@ TEST(PoseSolverTest, NormalEquationsMatchCentralDifferences) {
     const Eigen::Vector3d m = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
     for (const bool edge : {false, true}) {
       Residuals residuals;
-      residuals.emplace_back(edge ? PointToEdgeFactor::CreateFromDirection(p_s, q, m, 0.05)
-                                  : PointToPlaneFactor::Create(p_s, m, q, 0.05));
+      if (edge) residuals.AddEdge(p_s, q, m, 0.05);
+      if (!edge) residuals.AddPlane(p_s, m, q, 0.05);
+      const auto& factor = residuals.factors[0];
       auto r = [&](const SE3d& X) -> Eigen::VectorXd {
         double x[7];
         X.ToParameters(x);
         const double* parameters[1] = {x};
-        Eigen::VectorXd v(residuals[0]->num_residuals());
-        EXPECT_TRUE(residuals[0]->Evaluate(parameters, v.data(), nullptr));
+        Eigen::VectorXd v(factor->num_residuals());
+        EXPECT_TRUE(factor->Evaluate(parameters, v.data(), nullptr));
         return v;
       };
-      Eigen::MatrixXd J(residuals[0]->num_residuals(), 6);
+      Eigen::MatrixXd J(factor->num_residuals(), 6);
       const double h = 1e-6;
       for (int k = 0; k < 6; ++k) {
         Vector6d d = Vector6d::Zero();
@@ -171,7 +185,7 @@ TEST(PoseSolverTest, NormalEquationsMatchCentralDifferences) {
         J.col(k) = (r(T.Plus(d)) - r(T.Plus(-d))) / (2 * h);
       }
       NormalEquations eq;
-      ASSERT_TRUE(EvaluateNormalEquations(residuals, nullptr, T, &eq));
+      ASSERT_TRUE(EvaluateNormalEquations(residuals.values, nullptr, T, &eq));
       const Matrix6d H = J.transpose() * J;
       const Vector6d g = J.transpose() * r(T);
       EXPECT_LT((eq.H - H).norm(), 1e-5 * (1 + H.norm()));
@@ -194,10 +208,10 @@ TEST(PoseSolverTest, SummaryHoldsTheNormalEquationsAtTheSolution) {
     SE3d T = Perturb(T_w_s_gt, 2.0 * M_PI / 180.0, 0.3, &rng);
     PoseSolverOptions options;
     options.max_iterations = iterations;
-    const PoseSolverSummary summary = SolvePose(residuals, &loss, options, &T);
+    const PoseSolverSummary summary = SolvePose(residuals.values, &loss, options, &T);
     ASSERT_TRUE(summary.usable) << summary.message;
     NormalEquations at_solution;
-    ASSERT_TRUE(EvaluateNormalEquations(residuals, &loss, T, &at_solution));
+    ASSERT_TRUE(EvaluateNormalEquations(residuals.values, &loss, T, &at_solution));
     EXPECT_EQ((summary.normal_equations.H - at_solution.H).norm(), 0.0) << iterations;
     EXPECT_EQ(summary.normal_equations.cost, summary.final_cost);
     EXPECT_EQ(summary.normal_equations.num_residuals, 600 + 3 * 200);
@@ -207,16 +221,15 @@ TEST(PoseSolverTest, SummaryHoldsTheNormalEquationsAtTheSolution) {
 TEST(PoseSolverTest, BadInputIsReportedNotSolved) {
   Residuals none;
   SE3d T;
-  PoseSolverSummary summary = SolvePose(none, nullptr, PoseSolverOptions(), &T);
+  PoseSolverSummary summary = SolvePose(none.values, nullptr, PoseSolverOptions(), &T);
   EXPECT_FALSE(summary.usable);
   EXPECT_EQ(summary.message, "no residuals");
 
   Residuals one;
-  one.emplace_back(PointToPlaneFactor::Create(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::UnitZ(),
-                                              Eigen::Vector3d::Zero()));
+  one.AddPlane(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 1.0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   SE3d T_nan(Eigen::Quaterniond::Identity(), Eigen::Vector3d(nan, 0, 0));
-  summary = SolvePose(one, nullptr, PoseSolverOptions(), &T_nan);
+  summary = SolvePose(one.values, nullptr, PoseSolverOptions(), &T_nan);
   EXPECT_FALSE(summary.usable);
   EXPECT_FALSE(summary.message.empty());
 }

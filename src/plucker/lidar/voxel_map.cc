@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -106,22 +105,41 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   // Squared distance to the nearest point not returned (`local`: the query inside its voxel).
   const double margin = std::min(local.minCoeff(), 1.0 - local.maxCoeff()) + 1.0;
   float beyond = static_cast<float>(margin * margin * size_sq);
-  auto scan_voxel = [&](const Eigen::Vector3i& offset) {
-    // Squared distance from the query to the voxel's box (in voxel units, then metres).
-    double gap_sq = 0.0;
+  // The query's voxel, then its 26 neighbours nearer than max_distance: all looked up (and their
+  // points prefetched) before any is scanned, so that the cache misses overlap; then scanned in
+  // that order, skipping those that the scans before made farther than `worst`.
+  struct Near {
+    const Eigen::Vector3f* points;
+    std::uint32_t count;
+    float gap_sq;  // from the query to the voxel's box
+  };
+  std::array<Near, 27> near;
+  int num_near = 0;
+  auto look_up = [&](const Eigen::Vector3i& offset) {
+    double sq = 0.0;  // in voxel units
     for (int a = 0; a < 3; ++a) {
       const double g = offset(a) < 0 ? local(a) : (offset(a) > 0 ? 1.0 - local(a) : 0.0);
-      gap_sq += g * g;
+      sq += g * g;
     }
-    if (gap_sq * size_sq > worst) {
-      beyond = std::min(beyond, static_cast<float>(gap_sq * size_sq));
-      return;
-    }
+    const float gap_sq = static_cast<float>(sq * size_sq);
+    if (gap_sq > worst) return void(beyond = std::min(beyond, gap_sq));
     const auto it = voxels_.find(PackVoxel(c + offset));
     if (it == voxels_.end()) return;
-    const Eigen::Vector3f* stored = SlotPoints(it->second.slot);
-    for (std::uint32_t i = 0; i < it->second.count; ++i) {
-      const Eigen::Vector3f& p = stored[i];
+    near[num_near] = {SlotPoints(it->second.slot), it->second.count, gap_sq};
+    __builtin_prefetch(near[num_near++].points);
+  };
+  look_up(Eigen::Vector3i::Zero());
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz)
+        if (dx || dy || dz) look_up(Eigen::Vector3i(dx, dy, dz));
+  for (int v = 0; v < num_near; ++v) {
+    if (near[v].gap_sq > worst) {
+      beyond = std::min(beyond, near[v].gap_sq);
+      continue;
+    }
+    for (std::uint32_t i = 0; i < near[v].count; ++i) {
+      const Eigen::Vector3f& p = near[v].points[i];
       const float d = (p - q).squaredNorm();
       if (d > worst) {
         beyond = std::min(beyond, d);
@@ -138,12 +156,7 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
       best_p[j] = p;
       if (count == k) worst = best_d[k - 1];
     }
-  };
-  scan_voxel(Eigen::Vector3i::Zero());  // the query's own voxel first: it tightens `worst`
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz)
-        if (dx || dy || dz) scan_voxel(Eigen::Vector3i(dx, dy, dz));
+  }
   neighbours->resize(count);
   for (int i = 0; i < count; ++i) (*neighbours)[i] = best_p[i].cast<double>();
   if (reach) *reach = std::sqrt(beyond);

@@ -126,15 +126,16 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
                                              std::vector<double>* azimuth) {
   RingAssignmentStats stats;
   const std::size_t n = scan->size();
-  scan->ring.assign(n, 0);
+  scan->ring.resize(n);  // every element is set below
   if (n == 0) return stats;
   std::vector<double> local;
   std::vector<double>& az = azimuth ? *azimuth : local;
   az.resize(n);
-  for (std::size_t i = 0; i < n; ++i) az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
-  // Sweep direction: the sign of the typical small step between consecutive points.
+  // Azimuths, and the sweep direction: the sign of the typical small step between neighbours.
   double sum = 0.0;
+  az[0] = FastAtan2(scan->points[0].y(), scan->points[0].x());
   for (std::size_t i = 1; i < n; ++i) {
+    az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
     const double d = WrapAngle(az[i] - az[i - 1]);
     if (std::abs(d) < 0.1) sum += d;
   }
