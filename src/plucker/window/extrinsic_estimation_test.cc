@@ -9,6 +9,7 @@
 #include "plucker/eval/ate.h"
 #include "plucker/sim/camera_observations.h"
 #include "plucker/window/sliding_window_estimator.h"
+#include "plucker/window/window_test_utils.h"
 
 namespace plucker {
 namespace window {
@@ -41,17 +42,6 @@ sim::CameraSimulation MemsRoom(double tilt, int frames = kFrames, bool noise = t
     o.imu.model.gyro_bias_random_walk = o.imu.model.accel_bias_random_walk = 0.0;
   }
   return sim::SimulateCamera(o);
-}
-
-InertialState TrueState(const sim::CameraSimulation& s, int i) {
-  InertialState st;
-  st.T_w_b = s.T_w_b_gt[i];
-  st.v_w = s.v_w_gt[i];
-  std::size_t k = 0;
-  while (k + 1 < s.imu.size() && s.imu[k + 1].t <= s.frame_times[i]) ++k;
-  st.bias.gyro = s.imu[k].gyro_bias;
-  st.bias.accel = s.imu[k].accel_bias;
-  return st;
 }
 
 SlidingWindowOptions VioOptions() {  // poses-only prior, as `plucker vio`

@@ -20,6 +20,7 @@
 #include "plucker/sim/camera_observations.h"
 #include "plucker/window/sliding_window_estimator.h"
 #include "plucker/window/two_view_initialization.h"
+#include "plucker/window/window_test_utils.h"
 
 namespace plucker {
 namespace window {
@@ -56,18 +57,6 @@ sim::CameraSimulation Simulate(int frames, bool noise, std::uint64_t seed) {
     o.imu.model.accel_bias_random_walk = 0.0;
   }
   return sim::SimulateCamera(o);
-}
-
-InertialState TrueState(const sim::CameraSimulation& s, int i) {
-  InertialState st;
-  st.T_w_b = s.T_w_b_gt[i];
-  st.v_w = s.v_w_gt[i];
-  // The sample nearest the frame carries the true biases.
-  std::size_t k = 0;
-  while (k + 1 < s.imu.size() && s.imu[k + 1].t <= s.frame_times[i]) ++k;
-  st.bias.gyro = s.imu[k].gyro_bias;
-  st.bias.accel = s.imu[k].accel_bias;
-  return st;
 }
 
 // Initialised from the true states of frames 0 and `second` (a test may), frames in between at
