@@ -1,5 +1,7 @@
 #include "plucker/factors/marginalization.h"
 
+#include "plucker/factors/robust_loss.h"
+
 #include <ceres/dynamic_autodiff_cost_function.h>
 
 #include <Eigen/Eigenvalues>
@@ -74,22 +76,6 @@ RowMajorMatrix MinusAmbientJacobian(Kind kind, int ambient, const double* y, con
   Eigen::MatrixXd D = Eigen::MatrixXd::Identity(t, t);
   D.topLeftCorner<3, 3>() = RightJacobianInverseSO3(dx.head<3>());
   return D * minus_jacobian;
-}
-
-// Ceres' robust-loss correction of one residual block (r, J in tangent coordinates).
-void ApplyLoss(const ceres::LossFunction& loss, Eigen::VectorXd* r, Eigen::MatrixXd* J) {
-  const double s = r->squaredNorm();
-  double rho[3];
-  loss.Evaluate(s, rho);
-  const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
-  if (s == 0.0 || rho[2] <= 0.0) {
-    *r *= sqrt_rho1;
-    *J *= sqrt_rho1;
-    return;
-  }
-  const double alpha = 1.0 - std::sqrt(std::max(0.0, 1.0 + 2.0 * s * rho[2] / rho[1]));
-  *J = sqrt_rho1 * (*J - (alpha / s) * (*r) * (r->transpose() * (*J)));
-  *r *= sqrt_rho1 / (1.0 - alpha);
 }
 
 // Symmetric eigen-decomposition with small eigenvalues (relative to the largest) dropped.
@@ -255,7 +241,7 @@ LinearisedResidual Linearise(const MarginalizationResidual& res,
   if (!out.J.allFinite()) {
     throw std::invalid_argument("MarginalizationPrior: non-finite Jacobian");
   }
-  if (res.loss) ApplyLoss(*res.loss, &out.r, &out.J);
+  if (res.loss) ApplyRobustLoss(*res.loss, out.r, out.J);
   return out;
 }
 

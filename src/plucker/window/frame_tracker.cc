@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "plucker/factors/pose_manifold.h"
+#include "plucker/factors/robust_loss.h"
 
 namespace plucker {
 namespace window {
@@ -49,23 +50,7 @@ bool Linearize(const std::vector<PoseTerm>& terms, const ceres::LossFunction* lo
       return false;
     }
     Eigen::Matrix<double, 2, 6> J = J_ambient * plus;
-    const double s = r.squaredNorm();
-    if (loss == nullptr) {
-      *cost += 0.5 * s;
-    } else {
-      double rho[3];
-      loss->Evaluate(s, rho);
-      *cost += 0.5 * rho[0];
-      const double sqrt_rho1 = std::sqrt(rho[1]);
-      if (s == 0.0 || rho[2] <= 0.0) {
-        J *= sqrt_rho1;
-        r *= sqrt_rho1;
-      } else {
-        const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
-        J = sqrt_rho1 * (J - (alpha / s) * r * (r.transpose() * J));
-        r *= sqrt_rho1 / (1.0 - alpha);
-      }
-    }
+    *cost += 0.5 * (loss == nullptr ? r.squaredNorm() : ApplyRobustLoss(*loss, r, J));
     H->noalias() += J.transpose() * J;
     g->noalias() += J.transpose() * r;
   }
