@@ -138,8 +138,11 @@ for f in points segments; do
   awk '/^#/ {print; next} ($1 >= 12 && $1 <= 15) {$2 = -1} {print}' "$T/cam30/$f.txt" \
     > "$T/cam_gap/$f.txt"
 done
+# (the start's second view within 5 frames: the widest pair of 30 would span the gap)
+printf 'init.max_gap: 5\n' > "$T/vo_gap5.yaml"
 expect vo-reinit 0 "3 lost, 1 re-initialisations" -- \
-  "$PLUCKER" vo --features "$T/cam_gap" --out "$T/vo_gap.txt" --json "$T/vo_gap.json"
+  "$PLUCKER" vo --features "$T/cam_gap" --out "$T/vo_gap.txt" --json "$T/vo_gap.json" \
+  --config "$T/vo_gap5.yaml"
 expect vo-reinit-rows 0 "^30$" -- bash -c "wc -l < '$T/vo_gap.txt'"
 expect vo-reinit-json 0 '"scale": "chained"' -- cat "$T/vo_gap.json"
 # --config: a good file, an unknown key, a bad value, a value out of range.

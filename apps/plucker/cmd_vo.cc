@@ -3,13 +3,16 @@
 // rig.txt, points.txt and segments.txt with track ids; the ground truth in the folder is not read
 // by the estimator). The pipeline reads as the algorithm:
 //   initialise  two-view essential matrix on the point tracks of frame a and a later frame b with
-//               enough parallax (scale: |t_ab| = 1, arbitrary), triangulation, first window solve;
+//               enough parallax (scale: |t_ab| = 1, arbitrary), the widest such b first; the
+//               frames between localised and solved with a and b as keyframes (points and
+//               lines); the first start whose solve passes a chi-square test, else the best;
 //   localize    the frames between a and b (and before a) against that first map;
 //   per frame   window AddFrame: track, keyframe decision, triangulate, solve, marginalize.
 // Writes the KITTI poses T_w_c of every frame (world = camera a; frames that could not be localised
 // repeat the last pose and are marked in the JSON).
 #include <malloc.h>
 #include <CLI/CLI.hpp>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,6 +21,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
@@ -166,6 +170,83 @@ SE3d PredictPose(const VoRun& run, int from, int i) {
   return T;
 }
 
+// The multi-view start: the frames between the two views a = frames[0] and b = frames[1] (at
+// most window_size - 3 of them, evenly spaced), localised against the two-view map, become
+// keyframes, and one window solve of all of them with their points and lines replaces the two-view
+// map (with few points, two views leave the relative pose poorly conditioned and lines constrain
+// nothing; three or more views of the lines do). Keeps the two-view map when fewer than one frame
+// localises or the solve fails.
+void MultiViewStart(const VoRun& run, const window::SlidingWindowOptions& options,
+                    std::unique_ptr<window::SlidingWindowEstimator>* estimator,
+                    std::vector<int>* start_frames, window::InitializationResult* init_out) {
+  const std::vector<window::FrameInput>& frames = run.input.frames;
+  const int a = (*start_frames)[0], b = (*start_frames)[1];
+  const std::vector<SE3d> ab = (*estimator)->KeyframePoses();
+  const int between = std::min(b - a - 1, options.window_size - 3);
+  if (between < 1) return;
+  std::vector<int> kf = {a};
+  std::vector<window::FrameInput> kf_frames = {frames[a]};
+  std::vector<SE3d> kf_poses = {ab.front()};
+  for (int k = 1; k <= between; ++k) {
+    const int m = a + static_cast<int>(std::lround(double(k) * (b - a) / (between + 1)));
+    if (m <= kf.back() || m >= b) continue;
+    const SE3d guess = Interpolate(ab.front(), ab.back(), double(m - a) / double(b - a));
+    const std::optional<SE3d> T = (*estimator)->Localize(frames[m], guess);
+    if (!T) continue;
+    kf.push_back(m);
+    kf_frames.push_back(frames[m]);
+    kf_poses.push_back(*T);
+  }
+  if (kf.size() < 2) return;
+  kf.push_back(b);
+  kf_frames.push_back(frames[b]);
+  kf_poses.push_back(ab.back());
+  auto multi = std::make_unique<window::SlidingWindowEstimator>(run.input.K, options);
+  const window::InitializationResult init = multi->Initialize(kf_frames, kf_poses);
+  if (!init.ok) return;
+  *estimator = std::move(multi);
+  *init_out = init;
+  *start_frames = kf;
+}
+
+// One start on the pair (i, j): the two-view map, then (init.multi_view) the multi-view solve.
+struct Start {
+  std::unique_ptr<window::SlidingWindowEstimator> estimator;
+  std::vector<int> start_frames;  // keyframes, oldest first
+  window::InitializationResult init;
+  std::optional<double> chained;
+  // The chi-square test of the start's solve: (chi2 - dof) / sqrt(2 dof) of its whitened
+  // residuals (chi2 = 2 cost), about N(0, 1) for a start that fits at the noise level.
+  double chi2_z = 0.0;
+};
+
+std::optional<Start> TryStart(const VoRun& run, int from, int i, int j,
+                              const window::TwoViewResult& tv, std::string* message) {
+  const std::vector<window::FrameInput>& frames = run.input.frames;
+  Start s;
+  s.chained = ChainedBaseline(run, from, j - i);
+  const SE3d T_w_a = s.chained ? PredictPose(run, from, i) : SE3d();
+  SE3d T_a_b = tv.T_b_a.Inverse();
+  if (s.chained) T_a_b = SE3d(T_a_b.rotation(), T_a_b.translation() * *s.chained);
+  s.estimator = std::make_unique<window::SlidingWindowEstimator>(run.input.K, run.config.window);
+  s.init = s.estimator->Initialize(frames[i], T_w_a, frames[j], T_w_a * T_a_b);
+  if (!s.init.ok) {
+    *message = "frames " + std::to_string(i) + "-" + std::to_string(j) +
+               ": too few landmarks triangulated";
+    return std::nullopt;
+  }
+  s.start_frames = {i, j};
+  if (run.config.multi_view_start)
+    MultiViewStart(run, run.config.window, &s.estimator, &s.start_frames, &s.init);
+  // Degrees of freedom: 2 per residual block, less 6 per pose but the held first, 3 per point,
+  // 4 per line and 1 for the free scale.
+  const int kf = static_cast<int>(s.start_frames.size());
+  const int dof = 2 * s.init.residuals - (6 * (kf - 1) - 1 + 3 * s.init.points + 4 * s.init.lines);
+  s.chi2_z = dof > 0 ? (2.0 * s.init.final_cost - dof) / std::sqrt(2.0 * dof)
+                     : std::numeric_limits<double>::infinity();
+  return s;
+}
+
 // Initialise: a new estimator on the first frame pair (a >= from, a < b <= a + max_gap) whose
 // point tracks give a two-view start. The first map's world is camera a with |t_ab| = 1; a later
 // map continues the trajectory: camera a at its predicted pose, |t_ab| chained (ChainedBaseline).
@@ -176,41 +257,53 @@ std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* m
   const double t0 = ThreadCpuMs();
   *message = "no frame pair";
   for (int i = from; i + 1 < run.n; ++i) {
+    std::vector<std::pair<int, window::TwoViewResult>> candidates;
     for (int j = i + 1; j < run.n && j <= i + run.config.max_init_gap; ++j) {
-      const window::TwoViewResult tv =
-          window::InitializeTwoView(run.input.K, frames[i].points, frames[j].points);
+      window::TwoViewResult tv = window::InitializeTwoView(run.input.K, frames[i].points,
+                                                           frames[j].points, run.config.two_view);
       if (!tv.ok) {
         *message = "frames " + std::to_string(i) + "-" + std::to_string(j) + ": " + tv.message;
         continue;
       }
-      const std::optional<double> chained = ChainedBaseline(run, from, j - i);
-      const SE3d T_w_a = chained ? PredictPose(run, from, i) : SE3d();
-      SE3d T_a_b = tv.T_b_a.Inverse();
-      if (chained) T_a_b = SE3d(T_a_b.rotation(), T_a_b.translation() * *chained);
-      auto estimator = std::make_unique<window::SlidingWindowEstimator>(run.input.K, options);
-      const window::InitializationResult init =
-          estimator->Initialize(frames[i], T_w_a, frames[j], T_w_a * T_a_b);
-      if (!init.ok) {
-        *message = "frames " + std::to_string(i) + "-" + std::to_string(j) +
-                   ": too few landmarks triangulated";
-        continue;
-      }
-      run.estimator = std::move(estimator);
-      run.poses[i] = init.T_w_a;
-      run.poses[j] = init.T_w_b;
-      run.has_pose[i] = run.has_pose[j] = true;
-      run.status[i] = run.status[j] = "initialization";
-      run.keyframe[i] = run.keyframe[j] = true;
-      run.keyframes += 2;
-      run.maps.push_back({{"frames", {i, j}},
-                          {"after_lost_frame", from > 0 ? from - 1 : -1},
-                          {"scale", chained ? "chained" : "unit_baseline"},
-                          {"baseline", chained ? *chained : 1.0},
-                          {"points", init.points},
-                          {"lines", init.lines}});
-      run.init_ms += ThreadCpuMs() - t0;
-      return std::make_pair(i, j);
+      candidates.emplace_back(j, std::move(tv));
     }
+    // The widest pair first: under forward motion with few points, short pairs' five-point
+    // solutions are often wrong (docs/vo.md, "The start with scarce points").
+    if (run.config.widest_init_pair) std::reverse(candidates.begin(), candidates.end());
+    // Accept the first start whose solve fits at the noise level; after max_tries, the best.
+    std::optional<Start> best;
+    int tries = 0;
+    for (std::size_t c = 0; c < candidates.size() && tries < run.config.max_init_tries; ++c) {
+      const int j = candidates[c].first;
+      std::optional<Start> start = TryStart(run, from, i, j, candidates[c].second, message);
+      if (!start) continue;
+      ++tries;
+      if (!best || start->chi2_z < best->chi2_z) best = std::move(start);
+      if (best->chi2_z <= run.config.max_init_chi2_z) break;
+    }
+    if (!best) continue;
+    const int j = best->start_frames.back();
+    run.estimator = std::move(best->estimator);
+    const std::vector<SE3d> start_poses = run.estimator->KeyframePoses();
+    for (std::size_t k = 0; k < best->start_frames.size(); ++k) {
+      const int f = best->start_frames[k];
+      run.poses[f] = start_poses[k];
+      run.has_pose[f] = true;
+      run.status[f] = "initialization";
+      run.keyframe[f] = true;
+    }
+    run.keyframes += static_cast<int>(best->start_frames.size());
+    run.maps.push_back({{"frames", {i, j}},
+                        {"keyframes", best->start_frames},
+                        {"after_lost_frame", from > 0 ? from - 1 : -1},
+                        {"scale", best->chained ? "chained" : "unit_baseline"},
+                        {"baseline", best->chained ? *best->chained : 1.0},
+                        {"points", best->init.points},
+                        {"lines", best->init.lines},
+                        {"tries", tries},
+                        {"chi2_z", best->chi2_z}});
+    run.init_ms += ThreadCpuMs() - t0;
+    return std::make_pair(i, j);
   }
   run.init_ms += ThreadCpuMs() - t0;
   return std::nullopt;
@@ -220,7 +313,7 @@ std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* m
 // a's pose, between a and b from the interpolation.
 void LocalizeBeforeWindow(VoRun& run, int from, int a, int b) {
   for (int i = from; i < b; ++i) {
-    if (i == a) continue;
+    if (run.status[i] == "initialization") continue;
     const SE3d guess = i < a
                            ? run.poses[a]
                            : Interpolate(run.poses[a], run.poses[b], double(i - a) / double(b - a));
@@ -261,12 +354,19 @@ nlohmann::json FrameJson(const window::FrameResult& r, const nlohmann::json& tim
           {"ms", times}};
 }
 
+window::FrameInput WithGuess(window::FrameInput frame, const SE3d& T_w_c) {
+  frame.T_w_c_guess = T_w_c;
+  return frame;
+}
+
 // Per frame: window AddFrame (predict, track with the PnP fallback, keyframe, triangulate,
 // solve, marginalize). Returns whether the frame was tracked.
-bool TrackFrame(VoRun& run, int i) {
+bool TrackFrame(VoRun& run, int i, const std::optional<SE3d>& guess = std::nullopt) {
   BasicStageClock<window::WindowStage, window::kNumWindowStages> ms;
   const double t0 = ThreadCpuMs();
-  const window::FrameResult r = run.estimator->AddFrame(run.input.frames[i], ms.Observer());
+  const window::FrameResult r =
+      guess ? run.estimator->AddFrame(WithGuess(run.input.frames[i], *guess), ms.Observer())
+            : run.estimator->AddFrame(run.input.frames[i], ms.Observer());
   const double frame_ms = ThreadCpuMs() - t0;
   run.frame_total += frame_ms;
   ++run.window_frames;
@@ -402,7 +502,13 @@ int Run(const VoArgs& a, const VoConfig& config_in) {
     from = run.n;
     int lost_in_a_row = 0;
     for (int i = ab->second + 1; i < run.n; ++i) {
-      lost_in_a_row = TrackFrame(run, i) ? 0 : lost_in_a_row + 1;
+      // The first frame after the start: constant velocity of the frame before b (the estimator's
+      // own prediction would repeat the whole a-b motion).
+      std::optional<SE3d> guess;
+      const int b = ab->second;
+      if (i == b + 1 && b - 1 > ab->first && run.has_pose[b - 1])
+        guess = run.poses[b] * (run.poses[b - 1].Inverse() * run.poses[b]);
+      lost_in_a_row = TrackFrame(run, i, guess) ? 0 : lost_in_a_row + 1;
       DrawFrame(run, i);
       const double now = WallMs();
       if (!a.quiet && (now - last_progress > 500.0 || i + 1 == run.n)) {

@@ -1377,6 +1377,8 @@ struct SlidingWindowEstimator::Impl {
     FrameResult solve;
     SolveWindow(&solve);
     result.iterations = solve.window_iterations;
+    result.final_cost = solve.final_cost;
+    result.residuals = solve.residuals;
     result.points = static_cast<int>(points.size());
     result.lines = static_cast<int>(lines.size());
     result.T_w_a = keyframes.front()->T_w_c();
@@ -1386,7 +1388,7 @@ struct SlidingWindowEstimator::Impl {
       Clear();
       return result;
     }
-    prev_T_w_c = result.T_w_a;
+    prev_T_w_c = keyframes[keyframes.size() - 2]->T_w_c();
     last_T_w_c = result.T_w_b;
     return result;
   }
@@ -1439,6 +1441,23 @@ InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, con
   m.Clear();
   m.keyframes.push_back(m.MakeFrame(a, T_w_a));
   m.keyframes.push_back(m.MakeFrame(b, T_w_b));
+  return m.StartWindow(min_landmarks);
+}
+
+InitializationResult SlidingWindowEstimator::Initialize(const std::vector<FrameInput>& frames,
+                                                        const std::vector<SE3d>& T_w_c,
+                                                        int min_landmarks) {
+  Impl& m = *impl_;
+  if (m.opt.inertial) throw std::logic_error("Initialize: use InitializeInertial (inertial mode)");
+  if (frames.size() != T_w_c.size() || frames.size() < 2 ||
+      static_cast<int>(frames.size()) > m.opt.window_size) {
+    throw std::invalid_argument("Initialize: " + std::to_string(frames.size()) + " frames and " +
+                                std::to_string(T_w_c.size()) +
+                                " poses (2 to window_size of each needed)");
+  }
+  m.Clear();
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    m.keyframes.push_back(m.MakeFrame(frames[k], T_w_c[k]));
   return m.StartWindow(min_landmarks);
 }
 

@@ -285,7 +285,9 @@ struct InitializationResult {
   int points = 0;
   int lines = 0;
   int iterations = 0;
-  SE3d T_w_a, T_w_b;  // after the initial solve
+  double final_cost = 0.0;  // of the initial solve (Ceres cost, robust, whitened)
+  int residuals = 0;        // its residual blocks
+  SE3d T_w_a, T_w_b;        // after the initial solve
 };
 
 class SlidingWindowEstimator {
@@ -300,6 +302,12 @@ class SlidingWindowEstimator {
   // false, state cleared) with fewer than `min_landmarks` landmarks.
   InitializationResult Initialize(const FrameInput& a, const SE3d& T_w_a, const FrameInput& b,
                                   const SE3d& T_w_b, int min_landmarks = 10);
+  // The same with N >= 2 keyframes (oldest first) at known poses, e.g. a two-view start and
+  // frames between its views localised against it: the tracks of all triangulated, one solve of
+  // all poses, points and lines (the first pose held). Throws std::invalid_argument when the
+  // sizes differ, N < 2 or N > window_size, and std::logic_error in the inertial mode.
+  InitializationResult Initialize(const std::vector<FrameInput>& frames,
+                                  const std::vector<SE3d>& T_w_c, int min_landmarks = 10);
   bool initialized() const;
 
   // Visual-inertial mode. AddImu appends IMU samples (times increasing across calls; throws
