@@ -253,34 +253,38 @@ std::optional<Start> TryStart(const VoRun& run, int from, int i, int j,
 // Returns (a, b), or nullopt with the reason in *message.
 std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* message) {
   const std::vector<window::FrameInput>& frames = run.input.frames;
-  window::SlidingWindowOptions options = run.config.window;
   const double t0 = ThreadCpuMs();
   *message = "no frame pair";
   for (int i = from; i + 1 < run.n; ++i) {
+    // Accept the first start whose solve fits at the noise level; after max_tries, the best.
+    std::optional<Start> best;
+    int tries = 0;
+    const auto consider = [&](int j, const window::TwoViewResult& tv) {
+      std::optional<Start> start = TryStart(run, from, i, j, tv, message);
+      if (!start) return false;
+      ++tries;
+      if (!best || start->chi2_z < best->chi2_z) best = std::move(start);
+      return best->chi2_z <= run.config.max_init_chi2_z || tries >= run.config.max_init_tries;
+    };
+    // The widest pair first (all pairs tested, then tried from the widest): under forward motion
+    // with few points, short pairs' five-point solutions are often wrong (docs/vo.md, "The start
+    // with scarce points"). Else the pairs in order, each tried as soon as it passes.
     std::vector<std::pair<int, window::TwoViewResult>> candidates;
-    for (int j = i + 1; j < run.n && j <= i + run.config.max_init_gap; ++j) {
+    bool done = false;
+    for (int j = i + 1; j < run.n && j <= i + run.config.max_init_gap && !done; ++j) {
       window::TwoViewResult tv = window::InitializeTwoView(run.input.K, frames[i].points,
                                                            frames[j].points, run.config.two_view);
       if (!tv.ok) {
         *message = "frames " + std::to_string(i) + "-" + std::to_string(j) + ": " + tv.message;
         continue;
       }
-      candidates.emplace_back(j, std::move(tv));
+      if (run.config.widest_init_pair)
+        candidates.emplace_back(j, std::move(tv));
+      else
+        done = consider(j, tv);
     }
-    // The widest pair first: under forward motion with few points, short pairs' five-point
-    // solutions are often wrong (docs/vo.md, "The start with scarce points").
-    if (run.config.widest_init_pair) std::reverse(candidates.begin(), candidates.end());
-    // Accept the first start whose solve fits at the noise level; after max_tries, the best.
-    std::optional<Start> best;
-    int tries = 0;
-    for (std::size_t c = 0; c < candidates.size() && tries < run.config.max_init_tries; ++c) {
-      const int j = candidates[c].first;
-      std::optional<Start> start = TryStart(run, from, i, j, candidates[c].second, message);
-      if (!start) continue;
-      ++tries;
-      if (!best || start->chi2_z < best->chi2_z) best = std::move(start);
-      if (best->chi2_z <= run.config.max_init_chi2_z) break;
-    }
+    for (auto c = candidates.rbegin(); c != candidates.rend() && !done; ++c)
+      done = consider(c->first, c->second);
     if (!best) continue;
     const int j = best->start_frames.back();
     run.estimator = std::move(best->estimator);
