@@ -12,7 +12,6 @@
 // repeat the last pose and are marked in the JSON).
 #include <malloc.h>
 #include <CLI/CLI.hpp>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -247,8 +246,10 @@ std::optional<Start> TryStart(const VoRun& run, int from, int i, int j,
   return s;
 }
 
-// Initialise: a new estimator on the first frame pair (a >= from, a < b <= a + max_gap) whose
-// point tracks give a two-view start. The first map's world is camera a with |t_ab| = 1; a later
+// Initialise: a new estimator on the first frame a >= from with a second view b (a < b <= a +
+// max_gap) whose point tracks give a two-view start, b chosen as TryStart's comments say (features
+// folders: the widest pair whose multi-view solve passes the chi-square test; images: the first
+// pair that passes the two-view test). The first map's world is camera a with |t_ab| = 1; a later
 // map continues the trajectory: camera a at its predicted pose, |t_ab| chained (ChainedBaseline).
 // Returns (a, b), or nullopt with the reason in *message.
 std::optional<std::pair<int, int>> StartMap(VoRun& run, int from, std::string* message) {
