@@ -207,6 +207,10 @@ int RunLidar(const LidarArgs& a) {
             {"total_cpu", frame_cpu_ms},
             {"total_wall", frame_ms}}},
           {"association_rounds", r.association_rounds},
+          {"features",  // before the caps (edge_points, plane_points: after)
+           {{"valid", r.features.valid_points},
+            {"edges", r.features.edges},
+            {"planes", r.features.planes}}},
           {"edge_points", r.edge_points},
           {"plane_points", r.plane_points},
           {"edge_correspondences", r.edge_correspondences},

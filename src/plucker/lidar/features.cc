@@ -80,6 +80,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   const bool times = o.compute_times;
   const double supp_sq = o.suppression_distance * o.suppression_distance;
   const double thin_sq = 0.25 * o.plane_voxel_size * o.plane_voxel_size;
+  const double edge_threshold = o.edge_threshold;  // a local: `order` stores do not alias it
   const AzimuthClock clock(p, o.scan_period);
   auto time_of = [&](int i) {
     return has_time ? scan.time[ring[i]] : clock(p[i], static_cast<std::size_t>(i));
@@ -145,7 +146,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     int candidates = 0;
     for (int i = begin; i < end; ++i) {
       order[candidates] = {curvature[i], i};
-      candidates += (curvature[i] > o.edge_threshold) & (picked[i] == 0);
+      candidates += (curvature[i] > edge_threshold) & (picked[i] == 0);
     }
     order.resize(candidates);
     std::sort(order.begin(), order.end(),
@@ -279,12 +280,12 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
       return false;
     }
     const Eigen::Vector3d& p = scan.points[i];
-    if (r < 0 || !p.allFinite()) continue;
-    const double sq = p.squaredNorm();
-    if (sq < min_sq || sq > max_sq) continue;
+    if (r < 0 || !p.allFinite() || p.squaredNorm() < min_sq || p.squaredNorm() > max_sq) continue;
     rings[r].push_back(static_cast<int>(i));
-    num_rings = std::max(num_rings, r + 1);
-    ++stats.valid_points;
+  }
+  for (int r = 0; r < kMaxRings; ++r) {
+    stats.valid_points += static_cast<int>(rings[r].size());
+    if (!rings[r].empty()) num_rings = r + 1;
   }
 
   const bool times = o.compute_times;

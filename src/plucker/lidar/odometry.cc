@@ -248,8 +248,7 @@ void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vecto
 }
 
 FrameResult LidarOdometry::SkipFrame(const std::string& reason) {
-  FrameResult result;
-  result.ok = false;
+  FrameResult result;  // ok = false
   result.error = reason;
   result.T_w_s = PredictPose(poses_, options_.constant_velocity);
   poses_.push_back(result.T_w_s);

@@ -105,9 +105,9 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   // Squared distance to the nearest point not returned (`local`: the query inside its voxel).
   const double margin = std::min(local.minCoeff(), 1.0 - local.maxCoeff()) + 1.0;
   float beyond = static_cast<float>(margin * margin * size_sq);
-  // The query's voxel, then its 26 neighbours nearer than max_distance: all looked up (and their
-  // points prefetched) before any is scanned, so that the cache misses overlap; then scanned in
-  // that order, skipping those that the scans before made farther than `worst`.
+  // The query's voxel first; then its 26 neighbours nearer than the k-th point found so far, all
+  // looked up (points prefetched) before any is scanned, so that the cache misses overlap, then
+  // scanned in that order, skipping those that the scans before made farther than `worst`.
   struct Near {
     const Eigen::Vector3f* points;
     std::uint32_t count;
@@ -128,18 +128,10 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
     near[num_near] = {SlotPoints(it->second.slot), it->second.count, gap_sq};
     __builtin_prefetch(near[num_near++].points);
   };
-  look_up(Eigen::Vector3i::Zero());
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz)
-        if (dx || dy || dz) look_up(Eigen::Vector3i(dx, dy, dz));
-  for (int v = 0; v < num_near; ++v) {
-    if (near[v].gap_sq > worst) {
-      beyond = std::min(beyond, near[v].gap_sq);
-      continue;
-    }
-    for (std::uint32_t i = 0; i < near[v].count; ++i) {
-      const Eigen::Vector3f& p = near[v].points[i];
+  auto scan = [&](const Near& voxel) {
+    if (voxel.gap_sq > worst) return void(beyond = std::min(beyond, voxel.gap_sq));
+    for (std::uint32_t i = 0; i < voxel.count; ++i) {
+      const Eigen::Vector3f& p = voxel.points[i];
       const float d = (p - q).squaredNorm();
       if (d > worst) {
         beyond = std::min(beyond, d);
@@ -156,7 +148,14 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
       best_p[j] = p;
       if (count == k) worst = best_d[k - 1];
     }
-  }
+  };
+  look_up(Eigen::Vector3i::Zero());
+  if (num_near) scan(near[--num_near]);
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz)
+        if (dx || dy || dz) look_up(Eigen::Vector3i(dx, dy, dz));
+  for (int v = 0; v < num_near; ++v) scan(near[v]);
   neighbours->resize(count);
   for (int i = 0; i < count; ++i) (*neighbours)[i] = best_p[i].cast<double>();
   if (reach) *reach = std::sqrt(beyond);
