@@ -9,8 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <map>
 #include <memory>
+#include <stdexcept>
 
 #include "plucker/eval/ate.h"
 #include "plucker/factors/held_extrinsic_factor.h"
@@ -200,6 +202,13 @@ TEST(VisualInertialWindow, TrackingWithTheImuPredictionIsCloserThanVisionOnly) {
   EXPECT_GE(frames[0], 20);
   EXPECT_GE(frames[1], 20);
   EXPECT_LT(local_rms[1], 0.5 * local_rms[0]);
+  // A negative or non-finite velocity sigma is refused.
+  SlidingWindowOptions bad;
+  bad.inertial = InertialOptions();
+  bad.inertial->tracking_velocity_sigma = -0.01;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+  bad.inertial->tracking_velocity_sigma = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
 // r = (x - x0) / sigma on a vector block.
