@@ -615,6 +615,14 @@ struct SlidingWindowEstimator::Impl {
     const double sv = opt.inertial->tracking_velocity_sigma * preintegration.Dt();
     cov.bottomRightCorner<3, 3>() =
         R_w_i * C.block<3, 3>(6, 6) * R_w_i.transpose() + sv * sv * Eigen::Matrix3d::Identity();
+    if (opt.inertial->estimate_extrinsic) {
+      // The tracking sees the camera through the extrinsic's estimate, held: its uncertainty
+      // (the prior's sigmas) separates the visual body pose from the IMU's too.
+      const double sr = opt.inertial->extrinsic_rotation_sigma;
+      const double st = opt.inertial->extrinsic_translation_sigma;
+      cov.topLeftCorner<3, 3>() += sr * sr * Eigen::Matrix3d::Identity();
+      cov.bottomRightCorner<3, 3>() += st * st * Eigen::Matrix3d::Identity();
+    }
     // S = L^-1 with cov = L L^T: S^T S = cov^-1.
     const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(cov);
     if (llt.info() != Eigen::Success) return nullptr;
