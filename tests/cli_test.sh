@@ -443,6 +443,14 @@ expect vio-config-range nonzero "vio_range.yaml: an option is out of range" -- \
 printf 'init_gyro_bias_bound: -1\n' > "$T/vio_range_gyro.yaml"
 expect vio-config-range-gyro nonzero "vio_range_gyro.yaml: an option is out of range" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_gyro.yaml"
+printf 'tracking_velocity_sigma: -0.01\n' > "$T/vio_range_track.yaml"
+expect vio-config-range-tracking nonzero "vio_range_track.yaml: an option is out of range" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_track.yaml"
+# Vision-only per-frame tracking (the IMU prediction not fused; docs/vio.md).
+printf 'tracking_velocity_sigma: 0\n' > "$T/vio_track0.yaml"
+expect vio-vision-only-tracking 0 "40 frames, dynamic initialisation" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_t0.tum" --no-lines --point-stride 2 \
+  --config "$T/vio_track0.yaml"
 # The prior on the landmarks (the poses-only prior is the default) still runs.
 printf 'prior_on_poses_only: false\n' > "$T/vio_full.yaml"
 expect vio-landmark-prior 0 "40 frames, dynamic initialisation" -- \

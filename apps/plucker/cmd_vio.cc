@@ -64,6 +64,9 @@ struct VioConfig {
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
   double velocity_prior_sigma = 0.1;
+  // Per-frame tracking fuses the IMU prediction (window::InertialOptions, m/s; 0: vision only).
+  double tracking_velocity_sigma = 0.02;
+
   int init_min_keyframes = 10;        // dynamic initialisation: keyframes before the alignment
   int init_max_keyframes = 30;        // ... and the most it waits for
   double init_min_excitation = 0.25;  // m/s^2
@@ -126,6 +129,7 @@ const std::map<std::string, ConfigSetter>& ConfigFields() {
       {"gyro_bias_prior_sigma", Field(&VioConfig::gyro_bias_prior_sigma)},
       {"accel_bias_prior_sigma", Field(&VioConfig::accel_bias_prior_sigma)},
       {"velocity_prior_sigma", Field(&VioConfig::velocity_prior_sigma)},
+      {"tracking_velocity_sigma", Field(&VioConfig::tracking_velocity_sigma)},
       {"init_min_keyframes", Field(&VioConfig::init_min_keyframes)},
       {"init_max_keyframes", Field(&VioConfig::init_max_keyframes)},
       {"init_min_excitation", Field(&VioConfig::init_min_excitation)},
@@ -170,14 +174,15 @@ void ApplyConfig(const std::string& path, VioConfig* c) {
       c->init_max_keyframes < c->init_min_keyframes || !(c->max_keyframe_interval_s > 0.0) ||
       !(c->gyro_bias_prior_sigma > 0.0) || !(c->accel_bias_prior_sigma > 0.0) ||
       !(c->velocity_prior_sigma > 0.0) || !(c->init_max_rotation_disagreement_deg > 0.0) ||
-      !(c->init_gyro_bias_bound >= 0.0) || c->max_point_tracks < 1 ||
-      !(c->point_min_distance_px > 0.0) || c->line_max_segments < 0 ||
+      !(c->init_gyro_bias_bound >= 0.0) || !(c->tracking_velocity_sigma >= 0.0) ||
+      c->max_point_tracks < 1 || !(c->point_min_distance_px > 0.0) || c->line_max_segments < 0 ||
       !(c->line_detection_scale > 0.0 && c->line_detection_scale <= 1.0) ||
       c->line_flow_samples < 2) {
-    throw io::IoError(path,
-                      "an option is out of range (point_stride >= 1, window >= 2, "
-                      "init_min_keyframes >= 4, sigmas and intervals > 0, "
-                      "0 < line_detection_scale <= 1, line_flow_samples >= 2)");
+    throw io::IoError(
+        path,
+        "an option is out of range (point_stride >= 1, window >= 2, "
+        "init_min_keyframes >= 4, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
+        "0 < line_detection_scale <= 1, line_flow_samples >= 2)");
   }
   if (!(c->extrinsic_rotation_sigma > 0.0) || !(c->extrinsic_translation_sigma > 0.0) ||
       !(c->extrinsic_min_rotation_deg >= 0.0)) {
@@ -215,6 +220,7 @@ window::SlidingWindowOptions WindowOptions(const VioConfig& c, const VioInput& i
   inertial.gyro_bias_prior_sigma = c.gyro_bias_prior_sigma;
   inertial.accel_bias_prior_sigma = c.accel_bias_prior_sigma;
   inertial.velocity_prior_sigma = c.velocity_prior_sigma;
+  inertial.tracking_velocity_sigma = c.tracking_velocity_sigma;
   inertial.max_keyframe_interval_s = c.max_keyframe_interval_s;
   inertial.estimate_extrinsic = c.estimate_extrinsic;
   inertial.extrinsic_rotation_sigma = c.extrinsic_rotation_sigma;
@@ -743,7 +749,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
          "YAML options (docs/vio.md): any of use_lines, point_stride, window, "
          "prior_on_poses_only, iterations, keyframe_parallax_px, min_tracked, min_tracked_ratio, "
          "max_keyframe_interval_s, gyro_bias_prior_sigma, accel_bias_prior_sigma, "
-         "velocity_prior_sigma, init_min_keyframes, init_max_keyframes, "
+         "velocity_prior_sigma, tracking_velocity_sigma, init_min_keyframes, init_max_keyframes, "
          "init_min_excitation, init_max_rotation_disagreement_deg, init_gyro_bias_bound, "
          "image_still_px, max_point_tracks, point_min_distance_px, "
          "line_max_segments, line_detection_scale, line_flow_samples, estimate_extrinsic, "

@@ -18,21 +18,29 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using RowMajor2x7 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
 using RowMajor7x6 = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
+using RowMajor6x7 = Eigen::Matrix<double, 6, 7, Eigen::RowMajor>;
+
+bool IsPoseOnly(const PoseTerm& t) { return t.landmark == nullptr; }
 
 void CheckTerms(const std::vector<PoseTerm>& terms) {
   for (const PoseTerm& t : terms) {
-    if (t.cost == nullptr || t.landmark == nullptr || t.cost->num_residuals() != 2 ||
-        t.cost->parameter_block_sizes().size() != 2 || t.cost->parameter_block_sizes()[0] != 7) {
+    const bool observation =
+        t.cost != nullptr && t.landmark != nullptr && t.cost->num_residuals() == 2 &&
+        t.cost->parameter_block_sizes().size() == 2 && t.cost->parameter_block_sizes()[0] == 7;
+    const bool pose_only =
+        t.cost != nullptr && t.landmark == nullptr && t.cost->num_residuals() == 6 &&
+        t.cost->parameter_block_sizes().size() == 1 && t.cost->parameter_block_sizes()[0] == 7;
+    if (!observation && !pose_only) {
       throw std::invalid_argument(
           "RefinePose: a term needs a cost with 2 residuals on (7-value pose, landmark) and a "
-          "landmark");
+          "landmark, or a cost with 6 residuals on the 7-value pose alone and no landmark");
     }
   }
 }
 
 // The Gauss-Newton system H = J^T J, g = J^T r of the robustified residuals in the tangent at
 // `pose` (Ceres' Corrector: J <- sqrt(rho') (I - alpha r r^T / s) J, r <- sqrt(rho') / (1 -
-// alpha) r). False when a term cannot be evaluated.
+// alpha) r; pose-only terms without the loss). False when a term cannot be evaluated.
 bool Linearize(const std::vector<PoseTerm>& terms, const ceres::LossFunction* loss,
                const double* pose, Matrix6d* H, Vector6d* g, double* cost) {
   RowMajor7x6 plus;
@@ -43,6 +51,21 @@ bool Linearize(const std::vector<PoseTerm>& terms, const ceres::LossFunction* lo
   Eigen::Vector2d r;
   RowMajor2x7 J_ambient;
   for (const PoseTerm& t : terms) {
+    if (IsPoseOnly(t)) {
+      Vector6d r6;
+      RowMajor6x7 J6_ambient;
+      const double* parameters[1] = {pose};
+      double* jacobians[1] = {J6_ambient.data()};
+      if (!t.cost->Evaluate(parameters, r6.data(), jacobians) || !r6.allFinite() ||
+          !J6_ambient.allFinite()) {
+        return false;
+      }
+      const Matrix6d J6 = J6_ambient * plus;
+      *cost += 0.5 * r6.squaredNorm();
+      H->noalias() += J6.transpose() * J6;
+      g->noalias() += J6.transpose() * r6;
+      continue;
+    }
     const double* parameters[2] = {pose, t.landmark};
     double* jacobians[2] = {J_ambient.data(), nullptr};
     if (!t.cost->Evaluate(parameters, r.data(), jacobians) || !r.allFinite() ||

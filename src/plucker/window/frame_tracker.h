@@ -21,7 +21,9 @@ namespace plucker {
 namespace window {
 
 // One observation: a cost function with the parameter blocks (7 pose, kN landmark), the
-// landmark held at `landmark` (not owned; must outlive the call). The residual is 2-dimensional.
+// landmark held at `landmark` (not owned; must outlive the call). The residual is 2-dimensional
+// and robustified. Or a prior on the pose alone (landmark nullptr): a cost with 6 residuals on
+// the 7-value pose block, not robustified (e.g. the IMU prediction of the visual-inertial mode).
 struct PoseTerm {
   const ceres::CostFunction* cost = nullptr;
   const double* landmark = nullptr;
@@ -44,8 +46,9 @@ struct PoseRefinementSummary {
 };
 
 // Refines `pose` (7 values, PoseManifold) in place. `loss` may be null (no robust loss).
-// Throws std::invalid_argument for a term whose cost does not have 2 residuals and 2 parameter
-// blocks with a 7-value first one.
+// Throws std::invalid_argument for a term that is neither an observation (2 residuals, 2
+// parameter blocks with a 7-value first one, a landmark) nor a prior (6 residuals, one 7-value
+// block, no landmark).
 PoseRefinementSummary RefinePose(const std::vector<PoseTerm>& terms,
                                  const ceres::LossFunction* loss,
                                  const PoseRefinementOptions& options, double* pose);

@@ -6,6 +6,7 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <opencv2/calib3d.hpp>
@@ -599,7 +600,41 @@ struct SlidingWindowEstimator::Impl {
     int points = 0, lines = 0, iterations = 0;
   };
 
-  TrackResult Track(Frame* f, const SE3d& guess) const {
+  // Inertial mode: the prior the IMU prediction puts on a frame's body pose T_w_b (PoseManifold
+  // tangent: body rotation, world position). Its covariance is the preintegration's from the
+  // newest keyframe (rotation and position, given the keyframe's state) plus the keyframe's
+  // velocity uncertainty carried over the time since it, (tracking_velocity_sigma dt)^2 per axis.
+  ceres::CostFunction* ImuPosePrior(const InertialState& predicted,
+                                    const ImuPreintegration& preintegration) const {
+    const Eigen::Matrix3d R_w_i = keyframes.back()->State().T_w_b.RotationMatrix();
+    const Matrix9d C = preintegration.Covariance();  // [dtheta, dv, dp] in the body at i
+    Eigen::Matrix<double, 6, 6> cov;
+    cov.topLeftCorner<3, 3>() = C.topLeftCorner<3, 3>();
+    cov.topRightCorner<3, 3>() = C.block<3, 3>(0, 6) * R_w_i.transpose();
+    cov.bottomLeftCorner<3, 3>() = cov.topRightCorner<3, 3>().transpose();
+    const double sv = opt.inertial->tracking_velocity_sigma * preintegration.Dt();
+    cov.bottomRightCorner<3, 3>() =
+        R_w_i * C.block<3, 3>(6, 6) * R_w_i.transpose() + sv * sv * Eigen::Matrix3d::Identity();
+    if (opt.inertial->estimate_extrinsic) {
+      // The tracking sees the camera through the extrinsic's estimate, held: its uncertainty
+      // (the prior's sigmas) separates the visual body pose from the IMU's too.
+      const double sr = opt.inertial->extrinsic_rotation_sigma;
+      const double st = opt.inertial->extrinsic_translation_sigma;
+      cov.topLeftCorner<3, 3>() += sr * sr * Eigen::Matrix3d::Identity();
+      cov.bottomRightCorner<3, 3>() += st * st * Eigen::Matrix3d::Identity();
+    }
+    // S = L^-1 with cov = L L^T: S^T S = cov^-1.
+    const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(cov);
+    if (llt.info() != Eigen::Success) return nullptr;
+    const Eigen::Matrix<double, 6, 6> S =
+        llt.matrixL().solve(Eigen::Matrix<double, 6, 6>::Identity());
+    if (!S.allFinite()) return nullptr;
+    return new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
+        new PosePriorResidual{predicted.T_w_b, S});
+  }
+
+  // `prior` (optional): a pose-only term on the frame's pose block (ImuPosePrior).
+  TrackResult Track(Frame* f, const SE3d& guess, const ceres::CostFunction* prior = nullptr) const {
     TrackResult result;
     result.T_w_c = guess;
     f->SetCameraPose(guess);
@@ -651,6 +686,7 @@ struct SlidingWindowEstimator::Impl {
       for (const Observation& o : obs)
         if (o.cost) terms.push_back({o.cost.get(), o.landmark});
       if (terms.size() < 6) return result;
+      if (prior) terms.push_back({prior, nullptr});
       result.iterations += RefinePose(terms, loss.get(), ro, f->pose).iterations;
       if (flag(opt.outlier_sigmas) == 0) break;
     }
@@ -1427,6 +1463,10 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
         "SlidingWindowEstimator: the extrinsic sigmas must be positive and "
         "extrinsic_min_rotation_deg >= 0");
   }
+  if (options.inertial && !(options.inertial->tracking_velocity_sigma >= 0.0 &&
+                            std::isfinite(options.inertial->tracking_velocity_sigma))) {
+    throw std::invalid_argument("SlidingWindowEstimator: tracking_velocity_sigma must be >= 0");
+  }
   impl_->ResetExtrinsic();
 }
 
@@ -1557,7 +1597,11 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   std::unique_ptr<Frame> frame = m.MakeFrame(input, predicted);
   frame->input.stationary = result.stationary;
   stage(WindowStage::kTracking);
-  Impl::TrackResult track = m.Track(frame.get(), predicted);
+  std::unique_ptr<ceres::CostFunction> imu_prior;
+  if (m.opt.inertial && m.opt.inertial->tracking_velocity_sigma > 0.0 && !input.T_w_c_guess) {
+    imu_prior.reset(m.ImuPosePrior(imu_state, *imu));
+  }
+  Impl::TrackResult track = m.Track(frame.get(), predicted, imu_prior.get());
   if (!track.ok && m.opt.pnp_fallback) {
     const std::optional<SE3d> pnp = m.PnpPose(*frame);
     result.pnp_fallback = true;
