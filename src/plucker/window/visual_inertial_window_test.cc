@@ -408,7 +408,7 @@ TEST(VisualInertialWindow, PosesOnlyPriorMatchesTheLandmarkPriorWithinItsCovaria
 TEST(VisualInertialWindow, UncoveredFramesAreRefusedAndTheWindowGoesOn) {
   const sim::CameraSimulation s = Simulate(30, true, 2);
   SlidingWindowOptions options;
-  if (!options.inertial) options.inertial = InertialOptions();
+  options.inertial = InertialOptions();
   options.inertial->T_b_c = s.rig.T_b_c;
   std::vector<FrameInput> in(s.frame_times.size());
   for (std::size_t i = 0; i < in.size(); ++i) in[i].time = s.frame_times[i];
@@ -439,7 +439,7 @@ TEST(VisualInertialWindow, UncoveredFramesAreRefusedAndTheWindowGoesOn) {
 TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfEach) {
   const sim::CameraSimulation s = Simulate(30, false, 3);
   SlidingWindowOptions options;
-  if (!options.inertial) options.inertial = InertialOptions();
+  options.inertial = InertialOptions();
   options.inertial->T_b_c = s.rig.T_b_c;
   options.inertial->gravity_w = s.imu_options.gravity_w;
   std::vector<FrameInput> in(s.frame_times.size());
@@ -491,7 +491,7 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
 TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenItMoves) {
   const sim::CameraSimulation s = Simulate(16, true, 5);  // short: sanitizer budget
   SlidingWindowOptions options;
-  if (!options.inertial) options.inertial = InertialOptions();
+  options.inertial = InertialOptions();
   options.inertial->T_b_c = s.rig.T_b_c;
   options.inertial->gravity_w = s.imu_options.gravity_w;
   {  // Standing: frame 0's view repeated, the IMU reading gravity plus a 0.05 m/s^2 offset.
