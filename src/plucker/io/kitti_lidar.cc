@@ -61,19 +61,21 @@ std::string ReadFileToString(const std::string& path) {
 void ReadFileInto(const std::string& path, std::string* bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  bytes->clear();
   in.seekg(0, std::ios::end);
   const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
   in.clear();
   in.seekg(0);
   in.clear();      // a pipe cannot seek: then its size is unknown (read in chunks below)
-  if (size > 0) {  // regular file: one read of the known size
+  if (size > 0) {  // regular file: one read of the known size (a reused buffer is not cleared
+                   // first: resize then zeroes only what exceeds the previous file's size)
     bytes->resize(static_cast<std::size_t>(size));
     in.read(&(*bytes)[0], size);
     bytes->resize(static_cast<std::size_t>(in.gcount()));
     if (in.bad()) throw IoError(path, "read failed");
     if (in.peek() == std::ifstream::traits_type::eof()) return;
     in.clear();
+  } else {
+    bytes->clear();
   }
   // Unknown size, or a file that grew meanwhile: read the rest in chunks.
   char chunk[65536];

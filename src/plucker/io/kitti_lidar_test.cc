@@ -80,6 +80,11 @@ TEST(KittiBin, ReadFileIntoReusesTheBuffer) {
   EXPECT_EQ(bytes.data(), data);
   ReadFileInto((dir / "empty").string(), &bytes);
   EXPECT_TRUE(bytes.empty());
+  std::string other_big(100000, 'y');  // a larger file after a smaller one: no stale byte left
+  WriteRaw(dir / "other_big", other_big);
+  ReadFileInto((dir / "small").string(), &bytes);
+  ReadFileInto((dir / "other_big").string(), &bytes);
+  EXPECT_EQ(bytes, other_big);
   EXPECT_EQ(ReadFileToString((dir / "big").string()), big);
   EXPECT_THROW(ReadFileInto((dir / "absent").string(), &bytes), IoError);
 }

@@ -93,7 +93,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   prefix[0] = sum;
   for (int i = 0; i < n; ++i) prefix[i + 1] = sum += p[i];
   std::vector<double>& curvature = scratch->curvature;
-  curvature.assign(n, 0.0);
+  curvature.resize(n);  // the k points at each end have no full window: curvature 0
+  std::fill(curvature.begin(), curvature.begin() + k, 0.0);
+  std::fill(curvature.end() - k, curvature.end(), 0.0);
   for (int i = k; i < n - k; ++i) {
     const Eigen::Vector3d diff = (prefix[i + k + 1] - prefix[i - k]) - (2 * k + 1) * p[i];
     curvature[i] = diff.squaredNorm();
@@ -103,6 +105,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   std::vector<char>& picked = scratch->picked;
   std::vector<char>& label = scratch->label;
   picked.assign(n, 0), label.assign(n, 0);
+  double prev_sq = (p[k] - p[k - 1]).squaredNorm();  // |p_i - p_{i-1}|^2, carried along
   for (int i = k; i < n - k - 1; ++i) {
     const double d1 = depth[i], d2 = depth[i + 1];
     const double jump = std::abs(d1 - d2) / std::min(d1, d2);
@@ -114,13 +117,13 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
         picked[j] = 2;
       }
     }
-    const double prev_sq = (p[i] - p[i - 1]).squaredNorm();
     const double next_sq = (p[i + 1] - p[i]).squaredNorm();
     const double bound = o.parallel_beam_ratio * d1 * d1;
     if (prev_sq > bound && next_sq > bound && !picked[i]) {
       picked[i] = 2;
       ++out->parallel_rejected;
     }
+    prev_sq = next_sq;
   }
 
   auto suppress = [&](int i) {
@@ -142,17 +145,18 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     if (end <= begin) continue;
     // Edge candidates (curvature above the threshold, usually few), strongest first; gathered
     // without branches, sorted with their curvatures beside them (no lookups in the comparisons).
-    order.resize(end - begin);
+    // `order` only grows: shrinking and regrowing it zeroed ~2 MB per scan.
+    if (order.size() < static_cast<std::size_t>(end - begin)) order.resize(end - begin);
     int candidates = 0;
     for (int i = begin; i < end; ++i) {
       order[candidates] = {curvature[i], i};
       candidates += (curvature[i] > edge_threshold) & (picked[i] == 0);
     }
-    order.resize(candidates);
-    std::sort(order.begin(), order.end(),
+    std::sort(order.begin(), order.begin() + candidates,
               [](const auto& a, const auto& b) { return a.first > b.first; });
     int count = 0;
-    for (const auto& [c, i] : order) {
+    for (auto it = order.begin(); it != order.begin() + candidates; ++it) {
+      const int i = it->second;
       if (picked[i]) continue;
       ++count;
       if (count > o.max_edges_per_sector) break;

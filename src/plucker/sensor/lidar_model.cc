@@ -133,9 +133,8 @@ RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOpt
   az.resize(n);
   // Azimuths, and the sweep direction: the sign of the typical small step between neighbours.
   double sum = 0.0;
-  az[0] = FastAtan2(scan->points[0].y(), scan->points[0].x());
+  for (std::size_t i = 0; i < n; ++i) az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
   for (std::size_t i = 1; i < n; ++i) {
-    az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
     const double d = WrapAngle(az[i] - az[i - 1]);
     if (std::abs(d) < 0.1) sum += d;
   }
