@@ -14,6 +14,7 @@
 
 #include "bench_lidar_long.h"
 #include "commands.h"
+#include "lidar_heap.h"
 #include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
@@ -111,6 +112,7 @@ int RunLongBench(const BenchLidarArgs& args) {
 }
 
 int RunBenchLidar(const BenchLidarArgs& args) {
+  HeapOnHugePages();  // as `plucker lidar`
   if (args.long_mode) return RunLongBench(args);
   if (args.data.empty()) throw std::invalid_argument("--data is required (unless --long)");
   const io::LidarSequence seq = io::LidarSequence::Open(args.data, args.sequence);

@@ -1,8 +1,5 @@
 // `plucker lidar`: LOAM-style LiDAR odometry on a recorded sequence (KITTI layout, simulator
 // output or a folder of PCD files). docs/lidar-odometry.md describes the options and the results.
-#include <malloc.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +17,7 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "lidar_heap.h"
 #include "lidar_options_table.h"
 #include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
@@ -83,23 +81,6 @@ nlohmann::json Vec(const Eigen::MatrixBase<Derived>& v) {
   nlohmann::json j = nlohmann::json::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) j.push_back(v(i));
   return j;
-}
-
-// The buffers of a scan stream (the file, the scan, its rings and features, the maps: ~10 MB at
-// 120k points) come from the heap, grown in one step and backed by transparent huge pages where
-// the kernel gives them on request (madvise mode): their first touch then costs a fault per 2 MB
-// instead of per 4 KB. Harmless where THP is off (plain pages).
-void HeapOnHugePages() {
-  constexpr std::size_t kHuge = 2 << 20, kPad = 256 << 20;
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);   // scan buffers from the heap, not from fresh mmaps
-  mallopt(M_TRIM_THRESHOLD, 512 << 20);  // and the heap is not given back between scans
-  mallopt(M_TOP_PAD, kPad);              // the next growth reserves kPad at once
-  void* probe = malloc(kHuge);           // larger than the heap's free top: grows it
-  const auto from = (reinterpret_cast<std::uintptr_t>(probe) + kHuge - 1) & ~(kHuge - 1);
-  const auto to = reinterpret_cast<std::uintptr_t>(sbrk(0)) & ~(kHuge - 1);
-  if (probe != nullptr && to > from)
-    madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);  // a hint: errors ignored
-  free(probe);
 }
 
 int RunLidar(const LidarArgs& a) {
