@@ -277,15 +277,26 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   for (Ring& ring : rings) ring.clear();
   int num_rings = 0;  // 1 + the highest ring with a valid point
   const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
+  // Runs of equal ring (a firing-order scan is a run per ring) are appended through a local
+  // pointer: a push_back per point would carry the vector's end through memory.
+  for (std::size_t i = 0, end = i; i < scan.size(); i = end) {
     const int r = scan.ring[i];
     if (r >= kMaxRings) {
       *error = "ring index " + std::to_string(r) + " out of range";
       return false;
     }
-    const Eigen::Vector3d& p = scan.points[i];
-    if (r < 0 || !p.allFinite() || p.squaredNorm() < min_sq || p.squaredNorm() > max_sq) continue;
-    rings[r].push_back(static_cast<int>(i));
+    while (end < scan.size() && scan.ring[end] == r) ++end;
+    if (r < 0) continue;
+    Ring& ring = rings[r];
+    const std::size_t before = ring.size();
+    ring.resize(before + (end - i));
+    int* out = ring.data() + before;
+    for (std::size_t j = i; j < end; ++j) {
+      const Eigen::Vector3d& p = scan.points[j];
+      *out = static_cast<int>(j);
+      out += p.allFinite() && p.squaredNorm() >= min_sq && p.squaredNorm() <= max_sq;
+    }
+    ring.resize(out - ring.data());
   }
   for (int r = 0; r < kMaxRings; ++r) {
     stats.valid_points += static_cast<int>(rings[r].size());

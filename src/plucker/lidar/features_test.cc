@@ -157,6 +157,39 @@ TEST(FeaturesTest, RangeGatingNaNsAndBadInput) {
   EXPECT_NE(error.find("valid"), std::string::npos);
 }
 
+// Rings need not come in runs: two rings fired alternately give the same features as the same
+// rings one after the other; unassigned points (-1) are skipped; a ring index past the limit in
+// the middle of the scan is an error that names it.
+TEST(FeaturesTest, InterleavedRingsUnassignedPointsAndBadRingIndex) {
+  const LidarScan ring = Ring(0.5, SquareRoom);
+  LidarScan runs = ring, interleaved;
+  for (std::size_t i = 0; i < ring.size(); ++i) {  // ring 1: the same ring 1 m higher
+    runs.points.push_back(ring.points[i] + Eigen::Vector3d(0, 0, 1));
+    runs.ring.push_back(1);
+    for (int r = 0; r < 2; ++r) {
+      interleaved.points.push_back(ring.points[i] + Eigen::Vector3d(0, 0, r));
+      interleaved.ring.push_back(r);
+    }
+  }
+  FeatureOptions options;
+  ScanFeatures a, b;
+  std::string error;
+  ASSERT_TRUE(ExtractFeatures(runs, options, &a, &error)) << error;
+  ASSERT_TRUE(ExtractFeatures(interleaved, options, &b, &error)) << error;
+  EXPECT_EQ(a.stats.rings, 2);
+  ASSERT_GT(a.planes.size(), 100u);
+  EXPECT_EQ(a.planes, b.planes);
+  EXPECT_EQ(a.edges, b.edges);
+  EXPECT_EQ(a.stats.valid_points, b.stats.valid_points);
+
+  for (std::size_t i = 0; i < 10; ++i) interleaved.ring[2 * i + 1] = -1;  // 10 points of ring 1
+  ASSERT_TRUE(ExtractFeatures(interleaved, options, &b, &error)) << error;
+  EXPECT_EQ(b.stats.valid_points, a.stats.valid_points - 10);
+  interleaved.ring[interleaved.size() / 2] = 5000;
+  EXPECT_FALSE(ExtractFeatures(interleaved, options, &b, &error));
+  EXPECT_NE(error.find("ring index 5000"), std::string::npos) << error;
+}
+
 TEST(FeaturesTest, TimesFromAzimuthSpanOneRevolution) {
   const LidarScan scan = Ring(0.2, SquareRoom);
   FeatureOptions options;
