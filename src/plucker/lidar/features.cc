@@ -293,8 +293,9 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
     int* out = ring.data() + before;
     for (std::size_t j = i; j < end; ++j) {
       const Eigen::Vector3d& p = scan.points[j];
+      const double range_sq = p.squaredNorm();
       *out = static_cast<int>(j);
-      out += p.allFinite() && p.squaredNorm() >= min_sq && p.squaredNorm() <= max_sq;
+      out += p.allFinite() && range_sq >= min_sq && range_sq <= max_sq;
     }
     ring.resize(out - ring.data());
   }
