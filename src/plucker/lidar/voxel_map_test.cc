@@ -162,6 +162,51 @@ TEST(VoxelMapTest, ClearThenRefill) {
   }
 }
 
+// Queries on the corners of 4x4x4-voxel blocks (where the hash groups voxels) at negative and
+// positive coordinates, after RemoveFar emptied a region and the same voxels were refilled from
+// the freed slots: KNearest still matches brute force and the pool did not grow.
+TEST(VoxelMapTest, KNearestAtBlockCornersAfterRemovalAndRefill) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-6, 6);
+  VoxelMap map({0.5, 1000, 0.0, 6.0});
+  std::vector<Eigen::Vector3d> pts, removed;
+  for (int i = 0; i < 12000; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+  ASSERT_EQ(map.AddPoints(pts), 12000);
+  const std::size_t voxels = map.NumVoxels(), slots = map.NumSlots();
+  const Eigen::Vector3d origin(-4.0, -4.0, -4.0);
+  for (const auto& p : pts) {
+    const Eigen::Vector3d centre = ((p / 0.5).array().floor() + 0.5) * 0.5;
+    if ((centre - origin).norm() > 6.0) removed.push_back(p);
+  }
+  map.RemoveFar(origin);
+  ASSERT_GT(removed.size(), 4000u);
+  EXPECT_EQ(map.NumPoints(), pts.size() - removed.size());
+  EXPECT_LT(map.NumVoxels(), voxels);
+  ASSERT_EQ(map.AddPoints(removed), static_cast<int>(removed.size()));
+  EXPECT_EQ(map.NumVoxels(), voxels);
+  EXPECT_EQ(map.NumSlots(), slots);  // the refilled voxels took the freed slots
+  EXPECT_EQ(map.Points().size(), pts.size());
+  std::vector<Eigen::Vector3d> nn;
+  int checked = 0;
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int s = 0; s < 8; ++s) {  // the 8 voxels around the corner (2 i, 2 j, -2 j) m
+        const Eigen::Vector3d q(2.0 * i + (s & 1 ? 1e-3 : -1e-3), 2.0 * j + (s & 2 ? 1e-3 : -1e-3),
+                                -2.0 * j + (s & 4 ? 1e-3 : -1e-3));
+        float reach = -1.0f;
+        const int found = map.KNearest(q, 6, 0.5, &nn, &reach);
+        std::vector<double> d;
+        for (const auto& p : pts) d.push_back((p - q).norm());
+        std::sort(d.begin(), d.end());
+        const int within = static_cast<int>(std::upper_bound(d.begin(), d.end(), 0.5) - d.begin());
+        ASSERT_EQ(found, std::min(6, within)) << q.transpose();
+        for (int n = 0; n < found; ++n) ASSERT_NEAR((nn[n] - q).norm(), d[n], 1e-5);
+        ASSERT_GE(d[found], reach - 1e-5);  // the nearest point not returned
+        checked += found;
+      }
+  EXPECT_GT(checked, 7 * 7 * 8 * 2);  // on average more than 2 neighbours per query
+}
+
 TEST(VoxelMapTest, RejectsInvalidOptions) {
   EXPECT_THROW(VoxelMap({1.0, 0, 0.1, 10.0}), std::invalid_argument);
   EXPECT_THROW(VoxelMap({1.0, 10001, 0.1, 10.0}), std::invalid_argument);
