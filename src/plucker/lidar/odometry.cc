@@ -41,7 +41,10 @@ bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdome
   });
 }
 
-constexpr int kCandidates = 8;  // map points searched per feature point in a scan's first round
+// Map points searched per feature point in a scan's first round: the 5 neighbours and one spare,
+// which lets the later rounds prove most of their neighbours from the cache (8 searched more of
+// the map for few more proofs: docs/lidar-odometry.md, round 8).
+constexpr int kCandidates = 6;
 constexpr int kMaxNeighbours = 16;
 
 // One feature point's neighbour search, kept over the association rounds of a scan: the k nearest

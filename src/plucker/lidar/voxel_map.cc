@@ -115,15 +115,18 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   };
   std::array<Near, 27> near;
   int num_near = 0;
-  auto look_up = [&](const Eigen::Vector3i& offset) {
-    double sq = 0.0;  // in voxel units
-    for (int a = 0; a < 3; ++a) {
-      const double g = offset(a) < 0 ? local(a) : (offset(a) > 0 ? 1.0 - local(a) : 0.0);
-      sq += g * g;
-    }
+  // Per axis, the squared gap (voxel units) to the neighbour below, the same voxel and above.
+  std::array<std::array<double, 3>, 3> gap;
+  for (int a = 0; a < 3; ++a)
+    gap[a] = {local(a) * local(a), 0.0, (1.0 - local(a)) * (1.0 - local(a))};
+  // A neighbour's key: this one's plus the packed offset (VoxelOf's clamp leaves room for +-1).
+  const std::uint64_t key = PackVoxel(c);
+  auto look_up = [&](int dx, int dy, int dz) {
+    const double sq = gap[0][dx + 1] + gap[1][dy + 1] + gap[2][dz + 1];
     const float gap_sq = static_cast<float>(sq * size_sq);
     if (gap_sq > worst) return void(beyond = std::min(beyond, gap_sq));
-    const auto it = voxels_.find(PackVoxel(c + offset));
+    const std::int64_t offset = dx * (std::int64_t{1} << 42) + dy * (std::int64_t{1} << 21) + dz;
+    const auto it = voxels_.find(key + static_cast<std::uint64_t>(offset));
     if (it == voxels_.end()) return;
     near[num_near] = {SlotPoints(it->second.slot), it->second.count, gap_sq};
     __builtin_prefetch(near[num_near++].points);
@@ -149,12 +152,12 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
       if (count == k) worst = best_d[k - 1];
     }
   };
-  look_up(Eigen::Vector3i::Zero());
+  look_up(0, 0, 0);
   if (num_near) scan(near[--num_near]);
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz)
-        if (dx || dy || dz) look_up(Eigen::Vector3i(dx, dy, dz));
+        if (dx || dy || dz) look_up(dx, dy, dz);
   for (int v = 0; v < num_near; ++v) scan(near[v]);
   neighbours->resize(count);
   for (int i = 0; i < count; ++i) (*neighbours)[i] = best_p[i].cast<double>();

@@ -207,6 +207,34 @@ TEST(VoxelMapTest, KNearestAtBlockCornersAfterRemovalAndRefill) {
   EXPECT_GT(checked, 7 * 7 * 8 * 2);  // on average more than 2 neighbours per query
 }
 
+// KNearest forms a neighbour's key by adding the packed offset to the query voxel's key: no carry
+// or borrow between the axes at the ends of the packable range (+-1048000 voxels, both signs per
+// axis). Each of the 26 neighbours holds one point 0.125 |offset| from a query near that face,
+// edge or corner of the query's voxel (values exact in float).
+TEST(VoxelMapTest, KNearestAcrossEveryNeighbourAtTheEndsOfThePackableRange) {
+  int checked = 0;
+  for (const double end : {1047999.5, -1047999.5}) {
+    const Eigen::Vector3d centre(end, -end, end);  // of the query's voxel (1 m voxels)
+    VoxelMap map({1.0, 10, 0.0, 1e12});
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector3d> offsets;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+          if (dx || dy || dz) offsets.emplace_back(dx, dy, dz);
+    for (const auto& o : offsets) points.push_back(centre + 0.5625 * o);
+    ASSERT_EQ(map.AddPoints(points), 26);
+    std::vector<Eigen::Vector3d> nn;
+    for (std::size_t i = 0; i < offsets.size(); ++i) {
+      ASSERT_EQ(map.KNearest(centre + 0.4375 * offsets[i], 1, 1.0, &nn), 1)
+          << offsets[i].transpose();
+      EXPECT_EQ(nn[0], points[i]) << offsets[i].transpose();
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 52);
+}
+
 TEST(VoxelMapTest, RejectsInvalidOptions) {
   EXPECT_THROW(VoxelMap({1.0, 0, 0.1, 10.0}), std::invalid_argument);
   EXPECT_THROW(VoxelMap({1.0, 10001, 0.1, 10.0}), std::invalid_argument);
