@@ -119,14 +119,12 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   std::array<std::array<double, 3>, 3> gap;
   for (int a = 0; a < 3; ++a)
     gap[a] = {local(a) * local(a), 0.0, (1.0 - local(a)) * (1.0 - local(a))};
-  // A neighbour's key: this one's plus the packed offset (VoxelOf's clamp leaves room for +-1).
-  const std::uint64_t key = PackVoxel(c);
+  const std::uint64_t key = PackVoxel(c);  // a neighbour's: key + PackedOffset
   auto look_up = [&](int dx, int dy, int dz) {
     const double sq = gap[0][dx + 1] + gap[1][dy + 1] + gap[2][dz + 1];
     const float gap_sq = static_cast<float>(sq * size_sq);
     if (gap_sq > worst) return void(beyond = std::min(beyond, gap_sq));
-    const std::int64_t offset = dx * (std::int64_t{1} << 42) + dy * (std::int64_t{1} << 21) + dz;
-    const auto it = voxels_.find(key + static_cast<std::uint64_t>(offset));
+    const auto it = voxels_.find(key + PackedOffset(dx, dy, dz));
     if (it == voxels_.end()) return;
     near[num_near] = {SlotPoints(it->second.slot), it->second.count, gap_sq};
     __builtin_prefetch(near[num_near++].points);

@@ -34,6 +34,13 @@ inline Eigen::Vector3i UnpackVoxel(std::uint64_t key) {
   return Eigen::Vector3i(axis(42), axis(21), axis(0));
 }
 
+// The packed form of an offset d in {-1, 0, 1}^3: PackVoxel(v + d) = PackVoxel(v) + PackedOffset(d)
+// for v within VoxelOf's clamp (each field keeps room for +-1: no carry or borrow between them).
+inline std::uint64_t PackedOffset(int dx, int dy, int dz) {
+  return static_cast<std::uint64_t>(dx * (std::int64_t{1} << 42) + dy * (std::int64_t{1} << 21) +
+                                    dz);
+}
+
 // Voxel coordinates, clamped to the packable range (no overflow for absurd inputs).
 inline Eigen::Vector3i VoxelOf(const Eigen::Vector3d& p, double inv_size) {
   constexpr double kLimit = 1048000.0;

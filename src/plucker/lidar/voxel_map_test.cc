@@ -207,11 +207,22 @@ TEST(VoxelMapTest, KNearestAtBlockCornersAfterRemovalAndRefill) {
   EXPECT_GT(checked, 7 * 7 * 8 * 2);  // on average more than 2 neighbours per query
 }
 
-// KNearest forms a neighbour's key by adding the packed offset to the query voxel's key: no carry
-// or borrow between the axes at the ends of the packable range (+-1048000 voxels, both signs per
-// axis). Each of the 26 neighbours holds one point 0.125 |offset| from a query near that face,
-// edge or corner of the query's voxel (values exact in float).
+// KNearest forms a neighbour's key by adding PackedOffset to the query voxel's key: no carry or
+// borrow between the axes at the ends of the packable range (+-1048000 voxels, both signs per
+// axis), checked on the keys and through KNearest: each of the 26 neighbours holds one point
+// 0.125 |offset| from a query near that face, edge or corner of the query's voxel (exact floats).
 TEST(VoxelMapTest, KNearestAcrossEveryNeighbourAtTheEndsOfThePackableRange) {
+  int keys = 0;
+  for (const int end : {1048000, -1048000, 1047999, -1047999, 0})
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const Eigen::Vector3i v(end, -end, end), d(dx, dy, dz);
+          ASSERT_EQ(PackVoxel(v + d), PackVoxel(v) + PackedOffset(dx, dy, dz)) << v.transpose();
+          ASSERT_EQ(UnpackVoxel(PackVoxel(v) + PackedOffset(dx, dy, dz)), v + d);
+          ++keys;
+        }
+  EXPECT_EQ(keys, 5 * 27);
   int checked = 0;
   for (const double end : {1047999.5, -1047999.5}) {
     const Eigen::Vector3d centre(end, -end, end);  // of the query's voxel (1 m voxels)
