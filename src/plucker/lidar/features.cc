@@ -108,8 +108,8 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   double prev_sq = (p[k] - p[k - 1]).squaredNorm();  // |p_i - p_{i-1}|^2, carried along
   for (int i = k; i < n - k - 1; ++i) {
     const double d1 = depth[i], d2 = depth[i + 1];
-    const double jump = std::abs(d1 - d2) / std::min(d1, d2);
-    if (jump > o.occlusion_depth_jump &&  // and the points are angularly adjacent:
+    // A relative depth jump |d1 - d2| / min(d1, d2) above the threshold (no division per point),
+    if (std::abs(d1 - d2) > o.occlusion_depth_jump * std::min(d1, d2) &&  // angularly adjacent:
         (p[i + 1] / d2 - p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
       // The k points on the farther surface next to the jump may be occluded.
       for (int j = d1 > d2 ? i - k + 1 : i + 1, l = 0; l < k; ++j, ++l) {
@@ -177,7 +177,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
       double bound = o.plane_threshold;  // a candidate is below (full list: below its last)
       for (int i = begin; i < end; ++i) {
         const double c = curvature[i];
-        if (c >= bound || picked[i]) continue;
+        if ((c >= bound) | (picked[i] != 0)) continue;  // one branch, mostly taken
         int j = size < kShortList ? size++ : size - 1;
         for (; j > 0 && c < curvature[list[j - 1]]; --j) list[j] = list[j - 1];
         list[j] = i;
@@ -198,8 +198,8 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
     // Less flat: every non-edge point that was not rejected, thinned along the ring first.
     Eigen::Vector3d last(1e30, 1e30, 1e30);
     for (int i = begin; i < end; ++i) {
-      if (label[i] > 0 || picked[i] == 2) continue;
-      if (label[i] == 0 && (p[i] - last).squaredNorm() < thin_sq) continue;
+      if ((label[i] > 0) | (picked[i] == 2)) continue;
+      if ((label[i] == 0) & ((p[i] - last).squaredNorm() < thin_sq)) continue;
       last = p[i];
       out->planes.push_back(p[i]);
       if (times) out->plane_times.push_back(time_of(i));

@@ -32,6 +32,21 @@ const VoxelMapOptions& Validated(const VoxelMapOptions& o) {
   return o;
 }
 
+// The 27 offsets d in {-1, 0, 1}^3 by their bit in a neighbour mask, (dx + 1) * 9 + (dy + 1) * 3 +
+// dz + 1 (bit 13: the voxel itself; the opposite offset -d has bit 26 - bit): the packed offset
+// and d + 1 per axis (indices into per-axis tables).
+struct Neighbour {
+  std::uint64_t packed;
+  int x, y, z;
+};
+constexpr std::array<Neighbour, 27> kNeighbours = [] {
+  std::array<Neighbour, 27> table{};
+  for (int b = 0; b < 27; ++b)
+    table[b] = {PackedOffset(b / 9 - 1, b / 3 % 3 - 1, b % 3 - 1), b / 9, b / 3 % 3, b % 3};
+  return table;
+}();
+constexpr std::uint32_t kAllNeighbours = ((std::uint32_t{1} << 27) - 1) & ~(1u << 13);
+
 }  // namespace
 
 VoxelMap::VoxelMap(const VoxelMapOptions& options)
@@ -47,9 +62,23 @@ std::uint32_t VoxelMap::NewSlot() {
     free_slots_.pop_back();
     return slot;
   }
-  if ((num_slots_ >> block_shift_) >= blocks_.size())
+  if ((num_slots_ >> block_shift_) >= blocks_.size()) {
     blocks_.emplace_back(new Eigen::Vector3f[capacity_ << block_shift_]);
+    neighbour_mask_.resize(blocks_.size() << block_shift_);
+  }
   return num_slots_++;
+}
+
+std::uint32_t VoxelMap::LinkNeighbours(std::uint64_t key) {
+  std::uint32_t mask = 0;
+  for (int bit = 0; bit < 27; ++bit) {
+    if (bit == 13) continue;
+    const auto it = voxels_.find(key + kNeighbours[bit].packed);
+    if (it == voxels_.end()) continue;
+    mask |= 1u << bit;
+    neighbour_mask_[it->second.slot] |= 1u << (26 - bit);  // the new voxel is its opposite
+  }
+  return mask;
 }
 
 int VoxelMap::AddPoints(const std::vector<Eigen::Vector3d>& points_w) {
@@ -60,7 +89,11 @@ int VoxelMap::AddPoints(const std::vector<Eigen::Vector3d>& points_w) {
     if (!p.allFinite()) continue;
     const std::uint64_t key = PackVoxel(VoxelOf(p, inv_size_));
     auto it = voxels_.find(key);
-    if (it == voxels_.end()) it = voxels_.emplace(key, Voxel{NewSlot(), 0}).first;
+    if (it == voxels_.end()) {
+      const std::uint32_t slot = NewSlot();
+      neighbour_mask_[slot] = LinkNeighbours(key);
+      it = voxels_.emplace(key, Voxel{slot, 0}).first;
+    }
     Voxel& voxel = it.value();
     if (voxel.count >= capacity_) continue;
     Eigen::Vector3f* stored = SlotPoints(voxel.slot);
@@ -105,9 +138,11 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   // Squared distance to the nearest point not returned (`local`: the query inside its voxel).
   const double margin = std::min(local.minCoeff(), 1.0 - local.maxCoeff()) + 1.0;
   float beyond = static_cast<float>(margin * margin * size_sq);
-  // The query's voxel first; then its 26 neighbours nearer than the k-th point found so far, all
-  // looked up (points prefetched) before any is scanned, so that the cache misses overlap, then
-  // scanned in that order, skipping those that the scans before made farther than `worst`.
+  // The query's voxel first; then those of its neighbours in its mask (all 26 when it is absent)
+  // nearer than the k-th point found so far, all looked up (points prefetched) before any is
+  // scanned, so that the cache misses overlap, then scanned in that order, skipping those that
+  // the scans before made farther than `worst`. A neighbour not in the mask holds no point, so it
+  // does not bound `beyond` either.
   struct Near {
     const Eigen::Vector3f* points;
     std::uint32_t count;
@@ -120,11 +155,13 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
   for (int a = 0; a < 3; ++a)
     gap[a] = {local(a) * local(a), 0.0, (1.0 - local(a)) * (1.0 - local(a))};
   const std::uint64_t key = PackVoxel(c);  // a neighbour's: key + PackedOffset
-  auto look_up = [&](int dx, int dy, int dz) {
-    const double sq = gap[0][dx + 1] + gap[1][dy + 1] + gap[2][dz + 1];
+  std::uint32_t present = kAllNeighbours;  // neighbours that may hold points
+  auto look_up = [&](int bit) {
+    const Neighbour& d = kNeighbours[bit];
+    const double sq = gap[0][d.x] + gap[1][d.y] + gap[2][d.z];
     const float gap_sq = static_cast<float>(sq * size_sq);
     if (gap_sq > worst) return void(beyond = std::min(beyond, gap_sq));
-    const auto it = voxels_.find(key + PackedOffset(dx, dy, dz));
+    const auto it = voxels_.find(key + d.packed);
     if (it == voxels_.end()) return;
     near[num_near] = {SlotPoints(it->second.slot), it->second.count, gap_sq};
     __builtin_prefetch(near[num_near++].points);
@@ -150,12 +187,11 @@ int VoxelMap::KNearest(const Eigen::Vector3d& query_w, int k, double max_distanc
       if (count == k) worst = best_d[k - 1];
     }
   };
-  look_up(0, 0, 0);
-  if (num_near) scan(near[--num_near]);
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz)
-        if (dx || dy || dz) look_up(dx, dy, dz);
+  if (const auto it = voxels_.find(key); it != voxels_.end()) {
+    present = neighbour_mask_[it->second.slot];
+    scan({SlotPoints(it->second.slot), it->second.count, 0.0f});
+  }
+  for (std::uint32_t m = present; m != 0; m &= m - 1) look_up(__builtin_ctz(m));
   for (int v = 0; v < num_near; ++v) scan(near[v]);
   neighbours->resize(count);
   for (int i = 0; i < count; ++i) (*neighbours)[i] = best_p[i].cast<double>();

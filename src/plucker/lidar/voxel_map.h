@@ -1,10 +1,10 @@
 // Bounded local map for scan-to-map registration: a voxel hash (tsl::robin_map) of cubic voxels,
 // each holding at most `max_points_per_voxel` points at least `min_point_distance` apart. Voxels
 // farther than `max_distance` from the sensor are dropped by RemoveFar() (memory bounded by the
-// kept region). KNearest scans the query's voxel and its 26 neighbours (max_distance <=
-// voxel_size). Storage does not churn the heap (a std::vector per voxel fragmented it on long
-// drives): each voxel owns a slot of 12-byte points in a pool of ~256 KB blocks that only grows;
-// new voxels reuse the slots of removed ones.
+// kept region). KNearest scans the query's voxel and those of its 26 neighbours that hold points
+// (a mask per voxel; max_distance <= voxel_size). Storage does not churn the heap (a std::vector
+// per voxel fragmented it on long drives): each voxel owns a slot of 12-byte points in a pool of
+// ~256 KB blocks that only grows; new voxels reuse the slots of removed ones.
 #pragma once
 
 #include <tsl/robin_map.h>
@@ -36,7 +36,7 @@ inline Eigen::Vector3i UnpackVoxel(std::uint64_t key) {
 
 // The packed form of an offset d in {-1, 0, 1}^3: PackVoxel(v + d) = PackVoxel(v) + PackedOffset(d)
 // for v within VoxelOf's clamp (each field keeps room for +-1: no carry or borrow between them).
-inline std::uint64_t PackedOffset(int dx, int dy, int dz) {
+constexpr std::uint64_t PackedOffset(int dx, int dy, int dz) {
   return static_cast<std::uint64_t>(dx * (std::int64_t{1} << 42) + dy * (std::int64_t{1} << 21) +
                                     dz);
 }
@@ -100,6 +100,9 @@ class VoxelMap {
     std::uint32_t count;  // points stored, <= capacity_
   };
   std::uint32_t NewSlot();
+  // Sets the bit of the new voxel `key` in its neighbours' masks; returns the mask of its
+  // neighbours present.
+  std::uint32_t LinkNeighbours(std::uint64_t key);
   Eigen::Vector3f* SlotPoints(std::uint32_t slot) const {
     return blocks_[slot >> block_shift_].get() + (slot & block_mask_) * capacity_;
   }
@@ -112,6 +115,10 @@ class VoxelMap {
   tsl::robin_map<std::uint64_t, Voxel, VoxelKeyHash> voxels_;
   std::vector<std::unique_ptr<Eigen::Vector3f[]>> blocks_;
   std::vector<std::uint32_t> free_slots_;  // slots of removed voxels
+  // Per slot, a bit per neighbour that may hold points (set when either voxel is made; left set
+  // when the neighbour is removed, which costs KNearest a failed lookup and RemoveFar nothing).
+  // KNearest looks up only these.
+  std::vector<std::uint32_t> neighbour_mask_;
   std::uint32_t num_slots_ = 0;
   std::size_t num_points_ = 0;
 };

@@ -246,6 +246,46 @@ TEST(VoxelMapTest, KNearestAcrossEveryNeighbourAtTheEndsOfThePackableRange) {
   EXPECT_EQ(checked, 52);
 }
 
+// KNearest looks up only the neighbours in a voxel's mask: the masks follow voxels made before or
+// after their neighbours, removed by RemoveFar (their bits left set in the neighbours' masks),
+// made again in freed slots and dropped by Clear. A sparse map (most neighbours absent) on a
+// moving window, after every step, against brute force over the map's points, with the reach
+// bound (which absent neighbours no longer lower) checked as well.
+TEST(VoxelMapTest, KNearestAfterVoxelsComeAndGoInAnyOrder) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-3, 3);
+  VoxelMap map({0.5, 4, 0.0, 2.5});
+  int checked = 0, empty = 0;
+  for (int step = 0; step < 60; ++step) {
+    const Eigen::Vector3d origin(0.3 * (step % 20), -0.2 * (step % 20), 0.0);
+    if (step == 40) map.Clear();
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 150; ++i) pts.push_back(origin + Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    map.AddPoints(pts);
+    if (step % 3 == 2) map.RemoveFar(origin);
+    const std::vector<Eigen::Vector3d> stored = map.Points();
+    std::vector<Eigen::Vector3d> nn;
+    for (int trial = 0; trial < 30; ++trial) {
+      const Eigen::Vector3d q = origin + 0.5 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+      float reach = -1.0f;
+      const int found = map.KNearest(q, 3, 0.5, &nn, &reach);
+      std::vector<double> d;
+      for (const auto& p : stored) d.push_back((p - q).norm());
+      std::sort(d.begin(), d.end());
+      const int within = static_cast<int>(std::upper_bound(d.begin(), d.end(), 0.5) - d.begin());
+      ASSERT_EQ(found, std::min(3, within)) << "step " << step << " query " << q.transpose();
+      for (int n = 0; n < found; ++n) ASSERT_NEAR((nn[n] - q).norm(), d[n], 1e-5);
+      if (found < static_cast<int>(d.size())) {
+        ASSERT_GE(d[found], reach - 1e-5);  // the nearest point not returned
+      }
+      checked += found;
+      empty += found == 0;
+    }
+  }
+  EXPECT_GT(checked, 60 * 30);  // more than one neighbour per query on average
+  EXPECT_GT(empty, 60);         // and queries with no point near them
+}
+
 TEST(VoxelMapTest, RejectsInvalidOptions) {
   EXPECT_THROW(VoxelMap({1.0, 0, 0.1, 10.0}), std::invalid_argument);
   EXPECT_THROW(VoxelMap({1.0, 10001, 0.1, 10.0}), std::invalid_argument);
