@@ -11,6 +11,25 @@ namespace plucker {
 namespace lidar {
 namespace {
 
+// KNearest(q, k, max_d) against brute force over `pts`: the count, the distances in order and the
+// reach bound (the nearest point not returned). Returns the count found.
+int CheckKNearest(const VoxelMap& map, const std::vector<Eigen::Vector3d>& pts,
+                  const Eigen::Vector3d& q, int k, double max_d) {
+  std::vector<Eigen::Vector3d> nn;
+  float reach = -1.0f;
+  const int found = map.KNearest(q, k, max_d, &nn, &reach);
+  std::vector<double> d;
+  for (const auto& p : pts) d.push_back((p - q).norm());
+  std::sort(d.begin(), d.end());
+  const int within = static_cast<int>(std::upper_bound(d.begin(), d.end(), max_d) - d.begin());
+  EXPECT_EQ(found, std::min(k, within)) << q.transpose();
+  for (int n = 0; n < std::min(found, within); ++n) EXPECT_NEAR((nn[n] - q).norm(), d[n], 1e-5);
+  if (found < static_cast<int>(d.size())) {
+    EXPECT_GE(d[found], reach - 1e-5) << q.transpose();
+  }
+  return found;
+}
+
 TEST(VoxelMapTest, KNearestMatchesBruteForce) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-5, 5);
@@ -186,23 +205,14 @@ TEST(VoxelMapTest, KNearestAtBlockCornersAfterRemovalAndRefill) {
   EXPECT_EQ(map.NumVoxels(), voxels);
   EXPECT_EQ(map.NumSlots(), slots);  // the refilled voxels took the freed slots
   EXPECT_EQ(map.Points().size(), pts.size());
-  std::vector<Eigen::Vector3d> nn;
   int checked = 0;
   for (int i = -3; i <= 3; ++i)
     for (int j = -3; j <= 3; ++j)
       for (int s = 0; s < 8; ++s) {  // the 8 voxels around the corner (2 i, 2 j, -2 j) m
         const Eigen::Vector3d q(2.0 * i + (s & 1 ? 1e-3 : -1e-3), 2.0 * j + (s & 2 ? 1e-3 : -1e-3),
                                 -2.0 * j + (s & 4 ? 1e-3 : -1e-3));
-        float reach = -1.0f;
-        const int found = map.KNearest(q, 6, 0.5, &nn, &reach);
-        std::vector<double> d;
-        for (const auto& p : pts) d.push_back((p - q).norm());
-        std::sort(d.begin(), d.end());
-        const int within = static_cast<int>(std::upper_bound(d.begin(), d.end(), 0.5) - d.begin());
-        ASSERT_EQ(found, std::min(6, within)) << q.transpose();
-        for (int n = 0; n < found; ++n) ASSERT_NEAR((nn[n] - q).norm(), d[n], 1e-5);
-        ASSERT_GE(d[found], reach - 1e-5);  // the nearest point not returned
-        checked += found;
+        checked += CheckKNearest(map, pts, q, 6, 0.5);
+        ASSERT_FALSE(::testing::Test::HasFailure());
       }
   EXPECT_GT(checked, 7 * 7 * 8 * 2);  // on average more than 2 neighbours per query
 }
@@ -264,20 +274,10 @@ TEST(VoxelMapTest, KNearestAfterVoxelsComeAndGoInAnyOrder) {
     map.AddPoints(pts);
     if (step % 3 == 2) map.RemoveFar(origin);
     const std::vector<Eigen::Vector3d> stored = map.Points();
-    std::vector<Eigen::Vector3d> nn;
     for (int trial = 0; trial < 30; ++trial) {
       const Eigen::Vector3d q = origin + 0.5 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-      float reach = -1.0f;
-      const int found = map.KNearest(q, 3, 0.5, &nn, &reach);
-      std::vector<double> d;
-      for (const auto& p : stored) d.push_back((p - q).norm());
-      std::sort(d.begin(), d.end());
-      const int within = static_cast<int>(std::upper_bound(d.begin(), d.end(), 0.5) - d.begin());
-      ASSERT_EQ(found, std::min(3, within)) << "step " << step << " query " << q.transpose();
-      for (int n = 0; n < found; ++n) ASSERT_NEAR((nn[n] - q).norm(), d[n], 1e-5);
-      if (found < static_cast<int>(d.size())) {
-        ASSERT_GE(d[found], reach - 1e-5);  // the nearest point not returned
-      }
+      const int found = CheckKNearest(map, stored, q, 3, 0.5);
+      ASSERT_FALSE(::testing::Test::HasFailure()) << "step " << step;
       checked += found;
       empty += found == 0;
     }
