@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 
 namespace plucker {
 
@@ -45,6 +46,71 @@ PlaneFit PlaneFromPoints(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
   fit.plane(3) = -fit.plane.head<3>().dot(fit.centroid);
   return fit;
 }
+
+namespace {
+
+// The largest (side = 1) or the smallest (side = -1) root of mu^3 - p mu - q, whose three roots are
+// real, sum to 0 and lie within 2 sqrt(p / 3) of it, and within `bound` (|bound| beyond the root).
+// Newton's method from the nearer bound: beyond the root the cubic is monotone and convex
+// (concave), so the iterates approach the root from outside; they stop when a step is below
+// rounding or turns back (a double root converges only linearly: <= 100 steps).
+double ExtremeCubicRoot(double p, double q, double side, double bound) {
+  double mu = side * std::min(2.0 * std::sqrt(p / 3.0), side * bound);
+  for (int it = 0; it < 100; ++it) {
+    const double step = ((mu * mu - p) * mu - q) / (3.0 * mu * mu - p);
+    if (!(side * step > 0.0)) break;
+    mu -= step;
+    if (side * step < 1e-10) break;  // the error left is ~ step^2 / gap: below rounding
+  }
+  return mu;
+}
+
+ExtremeEigenpair FullSolverEigenpair(const Eigen::Matrix3d& A, double side) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(A);  // ascending
+  const int end = side > 0 ? 2 : 0;
+  ExtremeEigenpair eig;
+  eig.value = es.eigenvalues()(end);
+  eig.middle = es.eigenvalues()(1);
+  eig.vector = es.eigenvectors().col(end);
+  eig.fallback = true;
+  return eig;
+}
+
+ExtremeEigenpair ExtremeEigenpairOf(const Eigen::Matrix3d& A, double side) {
+  Eigen::Matrix3d C = A.selfadjointView<Eigen::Lower>();
+  const double shift = C.trace() / 3.0;
+  C.diagonal().array() -= shift;
+  const double scale = C.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0) || !std::isfinite(scale)) return FullSolverEigenpair(A, side);
+  C /= scale;  // eigenvalues within [-2, 2], summing to 0
+  const double p =
+      0.5 * C.diagonal().squaredNorm() + C(1, 0) * C(1, 0) + C(2, 0) * C(2, 0) + C(2, 1) * C(2, 1);
+  // Positive semi-definite: every eigenvalue is within [0, trace], i.e. mu within
+  // [-shift, 2 shift] / scale (for a plane's smallest or an edge's largest, nearly at that bound).
+  const double mu =
+      ExtremeCubicRoot(p, C.determinant(), side, (side > 0 ? 2.0 : -1.0) * shift / scale);
+  // The other two roots: a + b = -mu, a b = mu^2 - p; the middle one is on the side of mu.
+  const double middle = 0.5 * (-mu + side * std::sqrt(std::max(0.0, 4.0 * p - 3.0 * mu * mu)));
+  // The rows' cross products are the rows of adj(C - mu I) = (mu_a - mu)(mu_b - mu) v v^T.
+  C.diagonal().array() -= mu;
+  const Eigen::Vector3d c[3] = {C.row(0).cross(C.row(1)), C.row(0).cross(C.row(2)),
+                                C.row(1).cross(C.row(2))};
+  const double n[3] = {c[0].squaredNorm(), c[1].squaredNorm(), c[2].squaredNorm()};
+  const int best = n[0] >= n[1] ? (n[0] >= n[2] ? 0 : 2) : (n[1] >= n[2] ? 1 : 2);
+  // |gap product| >= 1e-4: the longest row of adj is >= its 1/sqrt(3), squared 3.3e-9.
+  if (!(n[best] > 3.3e-9)) return FullSolverEigenpair(A, side);
+  ExtremeEigenpair eig;
+  eig.value = shift + scale * mu;
+  eig.middle = shift + scale * middle;
+  eig.vector = c[best] / std::sqrt(n[best]);
+  return eig;
+}
+
+}  // namespace
+
+ExtremeEigenpair SmallestEigenpair(const Eigen::Matrix3d& A) { return ExtremeEigenpairOf(A, -1.0); }
+ExtremeEigenpair LargestEigenpair(const Eigen::Matrix3d& A) { return ExtremeEigenpairOf(A, 1.0); }
 
 namespace fitting_internal {
 

@@ -70,6 +70,25 @@ struct LineFit {
 PlaneFit PlaneFromPoints(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                          const Eigen::Vector3d& p3, const FitOptions& options = {});
 
+// The smallest or the largest eigenvalue of a symmetric 3x3 matrix (lower triangle read), its unit
+// eigenvector (sign arbitrary) and the middle eigenvalue: what a plane fit (normal) or a line fit
+// (direction, and the ratio of the two largest spreads) needs, at about a third of the cost of
+// Eigen's closed-form solver, which computes all three eigenvectors through atan2 and sincos. The
+// matrix is shifted by its mean eigenvalue and scaled; the extreme root of the characteristic cubic
+// is found by Newton's method from the bound on its side, the eigenvector as the longest cross
+// product of two rows of A - lambda I. When lambda is not well separated from the other two
+// eigenvalues (the product of the gaps below 1e-4 of the spread: the cross products then lose
+// precision), or A has three equal eigenvalues, Eigen's solver is used (`fallback`). Math and
+// tests: docs/math/projection-triangulation.md, fitting_test.cc.
+struct ExtremeEigenpair {
+  double value = 0.0;   // the smallest or the largest eigenvalue
+  double middle = 0.0;  // the middle eigenvalue (~sqrt(eps) of the spread when close to the third)
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();  // unit eigenvector of `value`
+  bool fallback = false;                             // from Eigen's solver
+};
+ExtremeEigenpair SmallestEigenpair(const Eigen::Matrix3d& A);
+ExtremeEigenpair LargestEigenpair(const Eigen::Matrix3d& A);
+
 // Signed distance m . p + e of p from a plane with unit normal (as returned by the fits).
 inline double PointPlaneDistance(const Eigen::Vector4d& plane, const Eigen::Vector3d& p) {
   return plane.head<3>().dot(p) + plane(3);

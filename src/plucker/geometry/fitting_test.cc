@@ -2,12 +2,109 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <array>
 #include <limits>
 #include <random>
 
 namespace plucker {
 namespace {
+
+// The covariance of n points with standard deviations `sd` along a random orthonormal frame,
+// centred far from the origin.
+Eigen::Matrix3d RandomCovariance(std::mt19937* rng, const Eigen::Vector3d& sd, int n) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Matrix3d R =
+      Eigen::Quaterniond(g(*rng), g(*rng), g(*rng), g(*rng)).normalized().toRotationMatrix();
+  const Eigen::Vector3d offset(1e3 * g(*rng), 1e3 * g(*rng), 10.0 * g(*rng));
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < n; ++i)
+    points.push_back(offset + R * sd.cwiseProduct(Eigen::Vector3d(g(*rng), g(*rng), g(*rng))));
+  int count = 0;
+  Eigen::Vector3d centroid;
+  Eigen::Matrix3d cov;
+  EXPECT_TRUE(fitting_internal::Moments(points.begin(), points.end(), &count, &centroid, &cov));
+  return cov;
+}
+
+// Checks an extreme eigenpair against Eigen's solver; returns true when it took the fast path.
+bool CheckExtremeEigenpair(const Eigen::Matrix3d& A, bool largest) {
+  const ExtremeEigenpair eig = largest ? LargestEigenpair(A) : SmallestEigenpair(A);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A);
+  const Eigen::Vector3d l = es.eigenvalues();
+  const int end = largest ? 2 : 0;
+  const double tol = 1e-12 * l.cwiseAbs().maxCoeff();
+  EXPECT_NEAR(eig.value, l(end), tol);
+  // The middle one comes from a quadratic: where the other two nearly coincide, its discriminant
+  // cancels and it is good to ~sqrt(epsilon) only (as is any quadratic's double root).
+  const double other_gap = largest ? l(1) - l(0) : l(2) - l(1);
+  EXPECT_NEAR(eig.middle, l(1), other_gap > 1e-3 * l(2) ? tol : 1e-7 * l(2));
+  EXPECT_NEAR(eig.vector.norm(), 1.0, 1e-12);
+  EXPECT_LE((A * eig.vector - eig.value * eig.vector).norm(), 1e-10 * l.cwiseAbs().maxCoeff());
+  // The direction itself where the eigenvalue is separated (else any vector of its eigenspace).
+  const double gap = largest ? l(2) - l(1) : l(1) - l(0);
+  if (gap > 1e-3 * l(2)) {
+    EXPECT_NEAR(std::abs(eig.vector.dot(es.eigenvectors().col(end))), 1.0, 1e-9);
+  }
+  return !eig.fallback;
+}
+
+TEST(ExtremeEigenpair, MatchesTheFullSolverOnCovariances) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> log_scale(-3.0, 3.0);
+  int checked = 0, fast = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double scale = std::pow(10.0, log_scale(rng));
+    // Planar (a map plane), linear (a map edge) and general spreads, from 5 or 20 points.
+    for (const Eigen::Vector3d& sd :
+         {Eigen::Vector3d(1.0, 0.8, 0.01), Eigen::Vector3d(1.0, 0.05, 0.02),
+          Eigen::Vector3d(1.0, 0.6, 0.3)}) {
+      const Eigen::Matrix3d A = RandomCovariance(&rng, scale * sd, trial % 2 ? 5 : 20);
+      for (const bool largest : {false, true}) {
+        fast += CheckExtremeEigenpair(A, largest);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 6000);
+  EXPECT_GT(fast, 5900);  // the fallback is for eigenvalues that are not well separated
+}
+
+TEST(ExtremeEigenpair, DegenerateMatricesFallBackToTheFullSolver) {
+  int checked = 0;
+  auto expect = [&](const Eigen::Matrix3d& A, bool largest, bool fallback) {
+    const ExtremeEigenpair eig = largest ? LargestEigenpair(A) : SmallestEigenpair(A);
+    EXPECT_EQ(eig.fallback, fallback) << A << (largest ? " largest" : " smallest");
+    ++checked;
+    return eig;
+  };
+  // Three equal eigenvalues (zero, isotropic): any unit vector.
+  for (const double c : {0.0, 2.5}) {
+    for (const bool largest : {false, true}) {
+      const ExtremeEigenpair eig = expect(c * Eigen::Matrix3d::Identity(), largest, true);
+      EXPECT_NEAR(eig.value, c, 1e-14);
+      EXPECT_NEAR(eig.middle, c, 1e-14);
+      EXPECT_NEAR(eig.vector.norm(), 1.0, 1e-15);
+    }
+  }
+  // Collinear points (rank 1): the smallest eigenvalue is double, the largest is separated.
+  const Eigen::Vector3d u = Eigen::Vector3d(1.0, 2.0, -0.5).normalized();
+  const Eigen::Matrix3d line = 3.0 * u * u.transpose();
+  EXPECT_TRUE(expect(line, true, false).vector.cross(u).norm() < 1e-12);
+  EXPECT_NEAR(expect(line, false, true).value, 0.0, 1e-14);
+  // A round disc (two equal largest eigenvalues): its normal is separated.
+  const Eigen::Matrix3d disc = Eigen::Vector3d(2.0, 2.0, 0.0).asDiagonal();
+  EXPECT_TRUE(CheckExtremeEigenpair(disc, false));
+  EXPECT_NEAR(std::abs(SmallestEigenpair(disc).vector.z()), 1.0, 1e-15);
+  expect(disc, true, true);
+  EXPECT_NEAR(LargestEigenpair(disc).value, 2.0, 1e-14);
+  // Non-finite input goes to the full solver (whatever it returns is not finite).
+  Eigen::Matrix3d bad = line;
+  bad(1, 0) = std::numeric_limits<double>::quiet_NaN();
+  expect(bad, false, true);
+  EXPECT_EQ(checked, 8);
+}
 
 TEST(Fitting, PlaneFromThreePoints) {
   const Eigen::Vector3d p1(1, 0, 2), p2(0, 1, 2), p3(3, 3, 2);

@@ -60,7 +60,7 @@ struct RingFeatures {
 // Per-ring working arrays, reused from ring to ring and scan to scan.
 struct RingScratch {
   std::vector<Eigen::Vector3d> p, prefix;  // the ring's points (gathered), their prefix sums
-  std::vector<double> depth, curvature;
+  std::vector<double> depth_sq, curvature;
   std::vector<char> picked, label;
   std::vector<std::pair<double, int>> order;  // edge candidates: curvature, index
 };
@@ -73,9 +73,9 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   if (n < 2 * k + 1 + o.sectors) return;
   out->used = true;
   std::vector<Eigen::Vector3d>& p = scratch->p;
-  std::vector<double>& depth = scratch->depth;
-  p.resize(n), depth.resize(n);
-  for (int i = 0; i < n; ++i) depth[i] = (p[i] = scan.points[ring[i]]).norm();
+  std::vector<double>& depth_sq = scratch->depth_sq;  // squared: no square root per point
+  p.resize(n), depth_sq.resize(n);
+  for (int i = 0; i < n; ++i) depth_sq[i] = (p[i] = scan.points[ring[i]]).squaredNorm();
   const bool has_time = !scan.time.empty();
   const bool times = o.compute_times;
   const double supp_sq = o.suppression_distance * o.suppression_distance;
@@ -105,20 +105,26 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   std::vector<char>& picked = scratch->picked;
   std::vector<char>& label = scratch->label;
   picked.assign(n, 0), label.assign(n, 0);
-  double prev_sq = (p[k] - p[k - 1]).squaredNorm();  // |p_i - p_{i-1}|^2, carried along
+  // A relative depth jump |d1 - d2| > t min(d1, d2) is max(d1, d2) > (1 + t) min(d1, d2): tested
+  // on the squared depths, so that only the few jumps take square roots (t <= -1: every pair).
+  const double jump = std::max(0.0, 1.0 + o.occlusion_depth_jump), jump_sq = jump * jump;
+  const double parallel_beam_ratio = o.parallel_beam_ratio;  // a local: not reloaded per point
+  double prev_sq = (p[k] - p[k - 1]).squaredNorm();          // |p_i - p_{i-1}|^2, carried along
   for (int i = k; i < n - k - 1; ++i) {
-    const double d1 = depth[i], d2 = depth[i + 1];
-    // A relative depth jump |d1 - d2| / min(d1, d2) above the threshold (no division per point),
-    if (std::abs(d1 - d2) > o.occlusion_depth_jump * std::min(d1, d2) &&  // angularly adjacent:
-        (p[i + 1] / d2 - p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
-      // The k points on the farther surface next to the jump may be occluded.
-      for (int j = d1 > d2 ? i - k + 1 : i + 1, l = 0; l < k; ++j, ++l) {
-        if (!picked[j]) ++out->occluded_rejected;
-        picked[j] = 2;
+    const double s1 = depth_sq[i], s2 = depth_sq[i + 1];
+    if (std::max(s1, s2) > jump_sq * std::min(s1, s2)) {
+      const double d1 = std::sqrt(s1), d2 = std::sqrt(s2);
+      // Only between angularly adjacent points: the k points on the farther surface next to the
+      // jump may be occluded.
+      if ((p[i + 1] / d2 - p[i] / d1).norm() < o.occlusion_max_gap / std::min(d1, d2)) {
+        for (int j = d1 > d2 ? i - k + 1 : i + 1, l = 0; l < k; ++j, ++l) {
+          if (!picked[j]) ++out->occluded_rejected;
+          picked[j] = 2;
+        }
       }
     }
     const double next_sq = (p[i + 1] - p[i]).squaredNorm();
-    const double bound = o.parallel_beam_ratio * d1 * d1;
+    const double bound = parallel_beam_ratio * s1;
     if (prev_sq > bound && next_sq > bound && !picked[i]) {
       picked[i] = 2;
       ++out->parallel_rejected;

@@ -2,7 +2,6 @@
 
 #include <ceres/loss_function.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -10,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "plucker/geometry/fitting.h"
 #include "plucker/lidar/deskew.h"
 #include "plucker/lidar/pose_solver.h"
 #include "plucker/sensor/lidar_model.h"
@@ -32,10 +32,10 @@ bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdome
   m->x_w /= static_cast<double>(nb.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const auto& p : nb) cov.noalias() += (p - m->x_w) * (p - m->x_w).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> fit;
-  fit.computeDirect(cov / static_cast<double>(nb.size()));  // ascending eigenvalues
-  m->d_w = fit.eigenvectors().col(plane ? 0 : 2);
-  if (!plane) return fit.eigenvalues()(2) > o.edge_eigen_ratio * fit.eigenvalues()(1);
+  cov /= static_cast<double>(nb.size());
+  const ExtremeEigenpair fit = plane ? SmallestEigenpair(cov) : LargestEigenpair(cov);
+  m->d_w = fit.vector;
+  if (!plane) return fit.value > o.edge_eigen_ratio * fit.middle;
   return std::none_of(nb.begin(), nb.end(), [&](const Eigen::Vector3d& q_w) {
     return std::abs(m->d_w.dot(q_w - m->x_w)) > o.plane_max_residual;
   });
