@@ -83,7 +83,7 @@ ExtremeEigenpair ExtremeEigenpairOf(const Eigen::Matrix3d& A, double side) {
   C.diagonal().array() -= shift;
   const double scale = C.cwiseAbs().maxCoeff();
   if (!(scale > 0.0) || !std::isfinite(scale)) return FullSolverEigenpair(A, side);
-  C /= scale;  // eigenvalues within [-2, 2], summing to 0
+  C *= 1.0 / scale;  // eigenvalues within [-2, 2], summing to 0
   const double p =
       0.5 * C.diagonal().squaredNorm() + C(1, 0) * C(1, 0) + C(2, 0) * C(2, 0) + C(2, 1) * C(2, 1);
   // Positive semi-definite: every eigenvalue is within [0, trace], i.e. mu within

@@ -3,11 +3,11 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include <tsl/robin_set.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 
 #include "plucker/geometry/fast_atan2.h"
 #include "plucker/lidar/voxel_map.h"
@@ -19,7 +19,8 @@ namespace {
 constexpr int kMaxRings = 1024;
 constexpr int kShortList = 8;  // flat candidates kept per sector (SelectRingFeatures)
 
-// One ring's valid points in firing order as indices into the scan (gathered in RingScratch).
+// One ring's points in firing order as indices into the scan (range-gated and gathered in
+// RingScratch, so that the split into rings reads the ring channel only, not the points).
 using Ring = std::vector<int>;
 
 // Time of a ring point from the azimuth swept since the ring's first point (its direction).
@@ -47,19 +48,21 @@ struct AzimuthClock {
 struct RingFeatures {
   std::vector<Eigen::Vector3d> sharp, flat, edges, planes;
   std::vector<double> edge_times, plane_times;
+  int valid = 0;  // points that passed the range gate (finite, min_range..max_range)
   int occluded_rejected = 0, parallel_rejected = 0;
   bool used = false;  // enough points for the curvature window and the sectors
 
   void Clear() {  // keeps the capacity
     for (auto* v : {&sharp, &flat, &edges, &planes}) v->clear();
     edge_times.clear(), plane_times.clear(), used = false;
-    occluded_rejected = parallel_rejected = 0;
+    valid = occluded_rejected = parallel_rejected = 0;
   }
 };
 
 // Per-ring working arrays, reused from ring to ring and scan to scan.
 struct RingScratch {
-  std::vector<Eigen::Vector3d> p, prefix;  // the ring's points (gathered), their prefix sums
+  std::vector<Eigen::Vector3d> p, prefix;  // the ring's valid points (gathered), prefix sums
+  std::vector<int> index;                  // their indices into the scan
   std::vector<double> depth_sq, curvature;
   std::vector<char> picked, label;
   std::vector<std::pair<double, int>> order;  // edge candidates: curvature, index
@@ -68,14 +71,24 @@ struct RingScratch {
 void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOptions& o,
                         RingScratch* scratch, RingFeatures* out) {
   out->Clear();
-  const int k = std::max(1, o.curvature_half_window);
-  const int n = static_cast<int>(ring.size());
-  if (n < 2 * k + 1 + o.sectors) return;
-  out->used = true;
+  // The valid points (finite, within the range gate), gathered without a branch per point.
   std::vector<Eigen::Vector3d>& p = scratch->p;
   std::vector<double>& depth_sq = scratch->depth_sq;  // squared: no square root per point
-  p.resize(n), depth_sq.resize(n);
-  for (int i = 0; i < n; ++i) depth_sq[i] = (p[i] = scan.points[ring[i]]).squaredNorm();
+  std::vector<int>& index = scratch->index;
+  p.resize(ring.size()), depth_sq.resize(ring.size()), index.resize(ring.size());
+  const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
+  int n = 0;
+  for (const int j : ring) {
+    const Eigen::Vector3d q = scan.points[j];  // a local: the count does not wait for the store
+    const double range_sq = q.squaredNorm();
+    p[n] = q, depth_sq[n] = range_sq, index[n] = j;
+    n += q.allFinite() & (range_sq >= min_sq) & (range_sq <= max_sq);
+  }
+  p.resize(n);
+  out->valid = n;
+  const int k = std::max(1, o.curvature_half_window);
+  if (n < 2 * k + 1 + o.sectors) return;
+  out->used = true;
   const bool has_time = !scan.time.empty();
   const bool times = o.compute_times;
   const double supp_sq = o.suppression_distance * o.suppression_distance;
@@ -83,7 +96,7 @@ void SelectRingFeatures(const Ring& ring, const LidarScan& scan, const FeatureOp
   const double edge_threshold = o.edge_threshold;  // a local: `order` stores do not alias it
   const AzimuthClock clock(p, o.scan_period);
   auto time_of = [&](int i) {
-    return has_time ? scan.time[ring[i]] : clock(p[i], static_cast<std::size_t>(i));
+    return has_time ? scan.time[index[i]] : clock(p[i], static_cast<std::size_t>(i));
   };
 
   // Curvature with a prefix sum: sum_{j!=0} (p_{i+j} - p_i) = S(i-k..i+k) - (2k+1) p_i.
@@ -218,20 +231,52 @@ void Append(const std::vector<T>& from, std::vector<T>* to) {
   to->insert(to->end(), from.begin(), from.end());
 }
 
-using VoxelSet = tsl::robin_set<std::uint64_t, VoxelKeyHash>;
+// The voxel keys seen by a downsampling: open addressing with linear probing in a power-of-two
+// table of bare keys (8 bytes a slot; empty = ~0, which PackVoxel's 63 bits never give), at most
+// half full, grown by doubling and kept from call to call, cleared by one fill. (tsl::robin_set
+// spends a fifth of the downsampling clearing its 16-byte buckets one by one.)
+class VoxelKeySet {
+ public:
+  void Clear() { std::fill(slots_.begin(), slots_.end(), kEmpty), size_ = 0; }
+  bool Insert(std::uint64_t key) {  // true when the key is new
+    if (2 * (size_ + 1) > slots_.size()) Grow();
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = Slot(key);; i = (i + 1) & mask) {
+      if (slots_[i] == key) return false;
+      if (slots_[i] == kEmpty) return slots_[i] = key, ++size_, true;
+    }
+  }
+
+ private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  std::size_t Slot(std::uint64_t key) const {  // Fibonacci hashing: the top bits of key * 2^64/phi
+    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ULL) >> shift_);
+  }
+  void Grow() {
+    std::vector<std::uint64_t> old(std::max<std::size_t>(1024, 2 * slots_.size()), kEmpty);
+    old.swap(slots_);
+    shift_ = 64 - __builtin_ctzll(slots_.size());
+    size_ = 0;
+    for (const std::uint64_t key : old)
+      if (key != kEmpty) Insert(key);
+  }
+  std::vector<std::uint64_t> slots_;
+  std::size_t size_ = 0;
+  int shift_ = 64;
+};
 
 // VoxelDownsample with a caller-owned set of the voxel keys seen (reused from call to call).
 void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points,
-                         std::vector<double>* times, VoxelSet* seen) {
+                         std::vector<double>* times, VoxelKeySet* seen) {
   if (voxel_size <= 0.0 || points->empty()) return;
   const bool with_times = times != nullptr && times->size() == points->size();
   const double inv = 1.0 / voxel_size;
-  seen->clear();  // keeps its buckets: sized by the distinct voxels seen (cache-friendly)
+  seen->Clear();  // keeps its table: sized by the distinct voxels seen (cache-friendly)
   std::size_t out = 0;
   std::uint64_t last = ~std::uint64_t{0};  // the previous point's voxel (already in `seen`)
   for (std::size_t i = 0; i < points->size(); ++i) {
     const std::uint64_t key = PackVoxel(VoxelOf((*points)[i], inv));
-    if (key == last || !seen->insert(last = key).second) continue;
+    if (key == last || !seen->Insert(last = key)) continue;
     (*points)[out] = (*points)[i];
     if (with_times) (*times)[out] = (*times)[i];
     ++out;
@@ -244,7 +289,7 @@ void VoxelDownsampleWith(double voxel_size, std::vector<Eigen::Vector3d>* points
 
 void VoxelDownsample(double voxel_size, std::vector<Eigen::Vector3d>* points,
                      std::vector<double>* times) {
-  VoxelSet seen;
+  VoxelKeySet seen;
   VoxelDownsampleWith(voxel_size, points, times, &seen);
 }
 
@@ -253,7 +298,7 @@ struct FeatureExtractor::Buffers {
   std::vector<RingFeatures> per_ring;
   RingScratch scratch;                                          // one thread
   tbb::enumerable_thread_specific<RingScratch> thread_scratch;  // several
-  VoxelSet seen;
+  VoxelKeySet seen;
 };
 
 FeatureExtractor::FeatureExtractor() : buffers_(std::make_unique<Buffers>()) {}
@@ -277,14 +322,12 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
     return false;
   }
 
-  // Split into rings, keeping firing order; range gating and NaN removal.
+  // Split into rings, keeping firing order (range gating and NaN removal come with the gather).
   std::vector<Ring>& rings = buffers_->rings;
   rings.resize(kMaxRings);  // allocated once, cleared keeping their capacity
   for (Ring& ring : rings) ring.clear();
-  int num_rings = 0;  // 1 + the highest ring with a valid point
-  const double min_sq = o.min_range * o.min_range, max_sq = o.max_range * o.max_range;
-  // Runs of equal ring (a firing-order scan is a run per ring) are appended through a local
-  // pointer: a push_back per point would carry the vector's end through memory.
+  int num_rings = 0;  // 1 + the highest ring with a point
+  // Runs of equal ring (a firing-order scan is a run per ring) are appended at once.
   for (std::size_t i = 0, end = i; i < scan.size(); i = end) {
     const int r = scan.ring[i];
     if (r >= kMaxRings) {
@@ -296,18 +339,8 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
     Ring& ring = rings[r];
     const std::size_t before = ring.size();
     ring.resize(before + (end - i));
-    int* out = ring.data() + before;
-    for (std::size_t j = i; j < end; ++j) {
-      const Eigen::Vector3d& p = scan.points[j];
-      const double range_sq = p.squaredNorm();
-      *out = static_cast<int>(j);
-      out += p.allFinite() && range_sq >= min_sq && range_sq <= max_sq;
-    }
-    ring.resize(out - ring.data());
-  }
-  for (int r = 0; r < kMaxRings; ++r) {
-    stats.valid_points += static_cast<int>(rings[r].size());
-    if (!rings[r].empty()) num_rings = r + 1;
+    std::iota(ring.begin() + before, ring.end(), static_cast<int>(i));
+    num_rings = std::max(num_rings, r + 1);
   }
 
   const bool times = o.compute_times;
@@ -328,6 +361,7 @@ bool FeatureExtractor::Extract(const LidarScan& scan, const FeatureOptions& o,
   }
   for (int r = 0; r < num_rings; ++r) {
     const RingFeatures& f = per_ring[r];
+    stats.valid_points += f.valid;
     if (!f.used) continue;
     ++stats.rings;
     stats.occluded_rejected += f.occluded_rejected;

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <random>
+#include <set>
 
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
@@ -225,6 +228,34 @@ TEST(FeaturesTest, VoxelDownsampleKeepsOnePointPerVoxel) {
   EXPECT_EQ(pts.size(), 4u);
   EXPECT_EQ(times.size(), 4u);
   EXPECT_DOUBLE_EQ(times[1], 25.0);
+}
+
+// Thousands of voxels (the key table grows from 1024 slots several times, reinserting its keys),
+// negative coordinates, revisits in any order: the first point of each voxel, in input order.
+TEST(FeaturesTest, VoxelDownsampleMatchesAReferenceThroughTableGrowth) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-6.0, 6.0);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<double> times;
+  for (int i = 0; i < 6000; ++i) {
+    pts.emplace_back(u(rng), u(rng), 0.1 * u(rng));
+    times.push_back(i);
+  }
+  std::vector<Eigen::Vector3d> expected;
+  std::vector<double> expected_times;
+  std::set<std::array<long, 3>> seen;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d v = (pts[i] / 0.25).array().floor();
+    if (seen.insert({std::lround(v.x()), std::lround(v.y()), std::lround(v.z())}).second) {
+      expected.push_back(pts[i]);
+      expected_times.push_back(times[i]);
+    }
+  }
+  VoxelDownsample(0.25, &pts, &times);
+  EXPECT_GT(expected.size(), 3000u);  // more than 1024 / 2 slots many times over
+  EXPECT_LT(expected.size(), 6000u);  // and some voxels visited again
+  EXPECT_EQ(pts, expected);
+  EXPECT_EQ(times, expected_times);
 }
 
 void ExpectSameFeatures(const ScanFeatures& a, const ScanFeatures& b) {

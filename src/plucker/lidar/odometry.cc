@@ -30,10 +30,10 @@ bool FitMap(const std::vector<Eigen::Vector3d>& nb, bool plane, const LidarOdome
   m->x_w = Eigen::Vector3d::Zero();
   for (const auto& p : nb) m->x_w += p;
   m->x_w /= static_cast<double>(nb.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : nb) cov.noalias() += (p - m->x_w) * (p - m->x_w).transpose();
-  cov /= static_cast<double>(nb.size());
-  const ExtremeEigenpair fit = plane ? SmallestEigenpair(cov) : LargestEigenpair(cov);
+  // The scatter matrix: n times the covariance, with the same eigenvectors and eigenvalue ratios.
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& p : nb) scatter.noalias() += (p - m->x_w) * (p - m->x_w).transpose();
+  const ExtremeEigenpair fit = plane ? SmallestEigenpair(scatter) : LargestEigenpair(scatter);
   m->d_w = fit.vector;
   if (!plane) return fit.value > o.edge_eigen_ratio * fit.middle;
   return std::none_of(nb.begin(), nb.end(), [&](const Eigen::Vector3d& q_w) {
