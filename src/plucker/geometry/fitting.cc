@@ -50,12 +50,20 @@ PlaneFit PlaneFromPoints(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
 namespace {
 
 // The largest (side = 1) or the smallest (side = -1) root of mu^3 - p mu - q, whose three roots are
-// real, sum to 0 and lie within 2 sqrt(p / 3) of it, and within `bound` (|bound| beyond the root).
+// real, sum to 0 and lie within 2 sqrt(p / 3) of it, and (for a positive semi-definite matrix)
+// within `bound`.
 // Newton's method from the nearer bound: beyond the root the cubic is monotone and convex
 // (concave), so the iterates approach the root from outside; they stop when a step is below
 // rounding or turns back (a double root converges only linearly: <= 100 steps).
 double ExtremeCubicRoot(double p, double q, double side, double bound) {
-  double mu = side * std::min(2.0 * std::sqrt(p / 3.0), side * bound);
+  const double outer = 2.0 * std::sqrt(p / 3.0);
+  double mu = side * std::min(outer, side * bound);
+  // Beyond the root, mu has the sign of `side`, the cubic too, and its slope is positive (mu is
+  // past the critical point sqrt(p / 3) on that side). If not, `bound` did not hold (a matrix that
+  // is not positive semi-definite): start from the bound that always holds.
+  const bool beyond =
+      side * mu >= 0.0 && 3.0 * mu * mu - p >= 0.0 && side * ((mu * mu - p) * mu - q) >= 0.0;
+  if (!beyond) mu = side * outer;
   for (int it = 0; it < 100; ++it) {
     const double step = ((mu * mu - p) * mu - q) / (3.0 * mu * mu - p);
     if (!(side * step > 0.0)) break;

@@ -70,18 +70,19 @@ struct LineFit {
 PlaneFit PlaneFromPoints(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                          const Eigen::Vector3d& p3, const FitOptions& options = {});
 
-// The smallest or the largest eigenvalue of a symmetric positive semi-definite 3x3 matrix (a
-// covariance or scatter matrix; lower triangle read), its unit eigenvector (sign arbitrary) and the
-// middle eigenvalue: what a plane fit (normal) or a line fit (direction, and the ratio of the two
-// largest spreads) needs. Eigen's closed-form solver computes all three eigenvectors through atan2
-// and sincos; this takes about 60 % of its time (150 vs 230 ns a map fit in the LiDAR odometry's
-// profile). The matrix is shifted by its mean eigenvalue and scaled; the extreme root of the
-// characteristic cubic is found by Newton's method from the bound on its side (every eigenvalue
-// lies in [0, trace]: the reason for the positive semi-definite precondition), the eigenvector as
-// the longest cross product of two rows of A - lambda I. When lambda is not well separated from
-// the other two eigenvalues (the product of the gaps below 1e-4 of the spread: the cross products
-// then lose precision), or A has three equal eigenvalues, Eigen's solver is used (`fallback`).
-// Math and tests: docs/math/projection-triangulation.md, fitting_test.cc.
+// The smallest or the largest eigenvalue of a symmetric 3x3 matrix (lower triangle read), its unit
+// eigenvector (sign arbitrary) and the middle eigenvalue: what a plane fit (normal) or a line fit
+// (direction, and the ratio of the two largest spreads) needs. Eigen's closed-form solver computes
+// all three eigenvectors through atan2 and sincos; this takes about 60 % of its time (150 vs 230 ns
+// a map fit in the LiDAR odometry's profile). The matrix is shifted by its mean eigenvalue and
+// scaled; the extreme root of the characteristic cubic is found by Newton's method from a bound on
+// its side: for a positive semi-definite matrix (a covariance), every eigenvalue lies in
+// [0, trace], which puts a plane's or an edge's root next to the start; other matrices start from
+// the general bound. The eigenvector is the longest cross product of two rows of A - lambda I. When
+// lambda is not well separated from the other two eigenvalues (the product of the gaps below 1e-4
+// of the spread: the cross products then lose precision), or A has three equal eigenvalues, Eigen's
+// solver is used (`fallback`). Math and tests: docs/math/projection-triangulation.md,
+// fitting_test.cc.
 struct ExtremeEigenpair {
   double value = 0.0;   // the smallest or the largest eigenvalue
   double middle = 0.0;  // the middle eigenvalue (~sqrt(eps) of the spread when close to the third)

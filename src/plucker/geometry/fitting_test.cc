@@ -99,6 +99,13 @@ TEST(ExtremeEigenpair, DegenerateMatricesFallBackToTheFullSolver) {
   EXPECT_NEAR(std::abs(SmallestEigenpair(disc).vector.z()), 1.0, 1e-15);
   expect(disc, true, true);
   EXPECT_NEAR(LargestEigenpair(disc).value, 2.0, 1e-14);
+  // Not positive semi-definite (the start from [0, trace] would lie between the roots): the same
+  // eigenpairs as the full solver, from the general bound.
+  const Eigen::Matrix3d indefinite = Eigen::Vector3d(-3.0, 0.5, 2.0).asDiagonal();
+  EXPECT_TRUE(CheckExtremeEigenpair(indefinite, false));
+  EXPECT_TRUE(CheckExtremeEigenpair(indefinite, true));
+  EXPECT_NEAR(SmallestEigenpair(indefinite).value, -3.0, 1e-14);
+  EXPECT_NEAR(LargestEigenpair(indefinite).value, 2.0, 1e-14);
   // Non-finite input goes to the full solver (whatever it returns is not finite).
   Eigen::Matrix3d bad = line;
   bad(1, 0) = std::numeric_limits<double>::quiet_NaN();
