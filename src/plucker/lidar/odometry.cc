@@ -207,7 +207,6 @@ class LidarOdometry::Impl {
   DegeneracyCriterion criterion;
   std::optional<sensor::LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
-  std::vector<double> azimuth;  // AssignRingsFromScanOrder's scratch
   std::vector<Match> planes, edges;
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   LidarResiduals residuals;
@@ -290,7 +289,7 @@ void LidarOdometry::AssignScanRings(LidarScan* scan) {
   const RingSource source = options_.ring_source;
   const bool has_ring = scan->ring.size() == scan->size();
   if (source == RingSource::kScanOrder || (source == RingSource::kAuto && !has_ring)) {
-    sensor::AssignRingsFromScanOrder(scan, {}, &impl_->azimuth);
+    sensor::AssignRingsFromScanOrder(scan);
   } else if (source == RingSource::kElevation ||
              (source == RingSource::kAutoElevation && !has_ring)) {
     if (!impl_->sensor) impl_->sensor = sensor::AutoDetectSensor(*scan);

@@ -122,55 +122,117 @@ RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model) {
   return stats;
 }
 
-RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOptions& options,
-                                             std::vector<double>* azimuth) {
+namespace {
+
+// The ring split below takes its decisions on the points' coordinates; a decision within this
+// sine of its boundary is taken on FastAtan2's azimuths instead, as the definition states (their
+// error, 1.7e-6 rad, lies far inside).
+constexpr double kNearSine = 1e-4;
+
+double Azimuth(const Eigen::Vector3d& p) { return FastAtan2(p.y(), p.x()); }
+
+// The first point of each ring, for a sweep in direction kDir (+1: counter-clockwise) from the
+// seam azimuth a0; and the steps between consecutive points that go in direction kDir less those
+// that go against it (negative: the sweep runs the other way).
+struct RingStarts {
+  std::vector<std::size_t> starts;
+  long forward_votes = 0;
+};
+
+// The definition (AssignRingsFromScanOrder, lidar_model.h) on u, the azimuth swept from the seam
+// in [0, 2 pi): a ring ends where u drops by more than the threshold once the ring has reached
+// u > pi (so that jitter around the seam does not split a ring, and rings with few returns still
+// end at the seam). u is an angle of the rotated point (x', y') = R(-a0) (x, y), and with h = kDir
+// y':
+//   - u > pi exactly when h < 0;
+//   - u drops from one point to the next only when the step goes backwards (kDir times the cross
+//     product of the two points is negative) or crosses the seam forwards (h from < 0 to > 0).
+// All other steps leave the ring as it is, so that the azimuths are computed only at those few
+// steps and at the points near the line of the seam (|h| within kNearSine of the range), where
+// they are compared as the definition says. (The L1 norm bounds the range: a safe margin.)
+template <int kDir>
+RingStarts SplitRings(const std::vector<Eigen::Vector3d>& p, double a0,
+                      const ScanOrderOptions& options) {
+  const double c = std::cos(a0), s = std::sin(a0);
+  auto swept = [&](std::size_t i) {          // u from the azimuth
+    double v = kDir * (Azimuth(p[i]) - a0);  // in (-4 pi, 4 pi): |azimuth|, |a0| < ~2 pi
+    while (v < 0) v += 2 * kPi;
+    while (v >= 2 * kPi) v -= 2 * kPi;
+    return v;
+  };
+  RingStarts out;
+  out.starts = {0};
+  const auto min_points = static_cast<std::size_t>(options.min_points_per_ring);
+  bool past_half = swept(0) > kPi;  // the current ring has reached u > pi
+  double x_prev = p[0].x(), y_prev = p[0].y();
+  double h_prev = kDir * (c * y_prev - s * x_prev);
+  double margin_prev = kNearSine * (std::abs(x_prev) + std::abs(y_prev));
+  bool near_prev = !(std::abs(h_prev) > margin_prev);  // also for NaN and the origin
+  long votes = 0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    const double x = p[i].x(), y = p[i].y();
+    const double h = kDir * (c * y - s * x);
+    const double margin = kNearSine * (std::abs(x) + std::abs(y));
+    const bool near = !(std::abs(h) > margin);
+    const double cross = kDir * (x_prev * y - y_prev * x);  // r_prev r sin(step)
+    const double step_margin = margin_prev * (std::abs(x) + std::abs(y));
+    const bool forward = cross > step_margin;
+    votes += forward - (cross < -step_margin);
+    if (near_prev | near | !forward | ((h_prev < 0.0) & (h > 0.0))) {
+      const double u_prev = swept(i - 1), u = swept(i);
+      if (u_prev - u > options.wrap_threshold_rad && past_half &&
+          i - out.starts.back() >= min_points) {
+        out.starts.push_back(i);
+        past_half = u > kPi;
+      } else {
+        past_half |= u > kPi;
+      }
+    } else {
+      past_half |= h < 0.0;
+    }
+    x_prev = x, y_prev = y, h_prev = h, margin_prev = margin, near_prev = near;
+  }
+  out.forward_votes = votes;
+  return out;
+}
+
+RingStarts SplitRings(const std::vector<Eigen::Vector3d>& p, double dir, double a0,
+                      const ScanOrderOptions& options) {
+  return dir > 0 ? SplitRings<1>(p, a0, options) : SplitRings<-1>(p, a0, options);
+}
+
+// The sweep direction voted by the first steps: the split runs in it, and is run again in the
+// other direction in the rare case that the whole scan votes otherwise.
+double FirstGuessOfDirection(const std::vector<Eigen::Vector3d>& p) {
+  long votes = 0;
+  for (std::size_t i = 1; i < std::min<std::size_t>(p.size(), 4096); ++i) {
+    const double cross = p[i - 1].x() * p[i].y() - p[i - 1].y() * p[i].x();
+    votes += (cross > 0.0) - (cross < 0.0);
+  }
+  return votes >= 0 ? 1.0 : -1.0;
+}
+
+}  // namespace
+
+RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan, const ScanOrderOptions& options) {
   RingAssignmentStats stats;
   const std::size_t n = scan->size();
   scan->ring.resize(n);  // every element is set below
   if (n == 0) return stats;
-  std::vector<double> local;
-  std::vector<double>& az = azimuth ? *azimuth : local;
-  az.resize(n);
-  // Azimuths, and the sweep direction: the sign of the typical small step between neighbours.
-  double sum = 0.0;
-  for (std::size_t i = 0; i < n; ++i) az[i] = FastAtan2(scan->points[i].y(), scan->points[i].x());
-  for (std::size_t i = 1; i < n; ++i) {
-    const double d = WrapAngle(az[i] - az[i - 1]);
-    if (std::abs(d) < 0.1) sum += d;
-  }
-  const double dir = sum >= 0.0 ? 1.0 : -1.0;
-  // Each beam sweeps one turn starting at a seam azimuth a0 (KITTI: the front, az ~ 0). In the
-  // angle u = dir * (az - a0) wrapped into [0, 2 pi), a ring ends where u drops by more than the
-  // threshold once the current ring has reached u > pi (so that jitter around the seam does not
-  // split a ring, and rings with few returns still end at the seam). Pass 1 takes a0 from the first
-  // point; pass 2 moves a0 just before the earliest ring start found, so that no ring start falls
-  // behind the seam.
-  auto split = [&](double a0) {
-    std::vector<std::size_t> starts = {0};
-    auto u = [&](std::size_t i) {
-      double v = dir * (az[i] - a0);  // in (-4 pi, 4 pi): az and a0 are within ~(-2 pi, 2 pi)
-      while (v < 0) v += 2 * kPi;
-      while (v >= 2 * kPi) v -= 2 * kPi;
-      return v;
-    };
-    double reached = u(0), prev = u(0);  // largest u of the current ring
-    for (std::size_t i = 1; i < n; ++i) {
-      const double cur = u(i);
-      if (prev - cur > options.wrap_threshold_rad && reached > kPi &&
-          i - starts.back() >= static_cast<std::size_t>(options.min_points_per_ring)) {
-        starts.push_back(i);
-        reached = cur;
-      } else {
-        reached = std::max(reached, cur);
-      }
-      prev = cur;
-    }
-    return starts;
-  };
-  std::vector<std::size_t> starts = split(az[0]);
-  double earliest = 0.0;  // offset of the earliest ring start from az[0], in sweep direction
-  for (std::size_t s : starts) earliest = std::min(earliest, dir * WrapAngle(az[s] - az[0]));
-  if (starts.size() > 1 && earliest < 0.0) starts = split(az[0] + dir * (earliest - 1e-6));
+  const std::vector<Eigen::Vector3d>& p = scan->points;
+  // The sweep direction: the sign that most steps between neighbours take.
+  double dir = FirstGuessOfDirection(p);
+  const double a0 = Azimuth(p[0]);
+  RingStarts split = SplitRings(p, dir, a0, options);
+  if (split.forward_votes < 0) split = SplitRings(p, dir = -dir, a0, options);
+  // Each beam sweeps one turn starting at a seam azimuth (KITTI: the front, az ~ 0). The first
+  // split takes the seam from the first point; if a ring starts behind it, the split is repeated
+  // with the seam just before the earliest ring start, so that no ring start falls behind it.
+  std::vector<std::size_t> starts = std::move(split.starts);
+  double earliest = 0.0;  // offset of the earliest ring start from a0, in sweep direction
+  for (std::size_t s : starts) earliest = std::min(earliest, dir * WrapAngle(Azimuth(p[s]) - a0));
+  if (starts.size() > 1 && earliest < 0.0)
+    starts = SplitRings(p, dir, a0 + dir * (earliest - 1e-6), options).starts;
   const int rings = static_cast<int>(starts.size());
   starts.push_back(n);
   for (int r = 0; r < rings; ++r)

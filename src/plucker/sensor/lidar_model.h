@@ -58,21 +58,21 @@ struct RingAssignmentStats {
 RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model);
 
 // Fills scan->ring from the firing order: a new ring starts where the azimuth wraps from the
-// end of a revolution back to its start. The azimuth is measured in the sweep direction (found
-// from the data) from the seam where the beams start (found from the data; KITTI: the front,
-// az ~ 0, counter-clockwise); a wrap is a drop by more than `wrap_threshold_rad` after the ring
-// has swept more than half a turn.
+// end of a revolution back to its start. The azimuth (FastAtan2) is measured in the sweep
+// direction from the seam where the beams start (both found from the data: the direction is the
+// sign that most steps between consecutive points take; the seam is where the first ring starts,
+// KITTI: the front, az ~ 0, counter-clockwise); a wrap is a drop by more than
+// `wrap_threshold_rad` after the ring has swept more than half a turn.
 // Ring numbers are then flipped if needed so that ring 0 is the lowest (by mean elevation).
-// Overwrites an existing ring field. For scans stored in firing order (KITTI .bin). A caller that
-// processes a stream passes `azimuth`, a scratch buffer reused from scan to scan (without it, the
-// per-point azimuths, 1 MB for a KITTI scan, are a fresh allocation, page-faulted every scan).
+// Overwrites an existing ring field. For scans stored in firing order (KITTI .bin). The split is
+// taken on the points' coordinates, with the azimuths computed only where a decision is close
+// (lidar_model.cc): the same rings as from every point's azimuth, at about half the cost.
 struct ScanOrderOptions {
   double wrap_threshold_rad = 3.14159265358979;  // azimuth jump (backwards) that starts a ring
   int min_points_per_ring = 16;  // shorter fragments are merged into the ring before them
 };
 RingAssignmentStats AssignRingsFromScanOrder(LidarScan* scan,
-                                             const ScanOrderOptions& options = ScanOrderOptions(),
-                                             std::vector<double>* azimuth = nullptr);
+                                             const ScanOrderOptions& options = ScanOrderOptions());
 
 // Guesses the sensor from the elevation histogram (vertical field of view and number of
 // distinct elevation peaks): returns HDL64, VLP32 or VLP16. `confidence` (optional, 0..1) says
