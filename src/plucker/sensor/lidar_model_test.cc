@@ -263,6 +263,25 @@ TEST(LidarModel, AutoDetectOnSimulatedScans) {
   EXPECT_EQ(confidence, 0.0);
 }
 
+// Every scan of the KITTI extract: the same rings as the definition from every azimuth.
+TEST(LidarModel, ScanOrderRingsMatchTheAzimuthDefinitionOnRealScans) {
+  const fs::path dir =
+      fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-odometry-00/sequences/00/velodyne";
+  if (!fs::exists(dir / "000000.bin")) GTEST_SKIP() << "no KITTI extract at " << dir;
+  int scans = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".bin") continue;
+    LidarScan scan = io::ReadKittiBin(entry.path().string());
+    bool second = false;
+    double dir_sign = 0.0;
+    const std::vector<int> expected = ReferenceRings(scan.points, {}, &second, &dir_sign);
+    EXPECT_GE(AssignRingsFromScanOrder(&scan).rings_found, 62) << entry.path();
+    EXPECT_EQ(scan.ring, expected) << entry.path();
+    ++scans;
+  }
+  EXPECT_EQ(scans, 16);
+}
+
 TEST(LidarModel, RealKittiScans) {
   const fs::path dir =
       fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-odometry-00/sequences/00/velodyne";
