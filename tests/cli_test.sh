@@ -114,6 +114,20 @@ expect eval-init-json 0 '"gravity_direction_error_deg": 0' -- \
   "$PLUCKER" eval init --euroc "$T/euroc" --json
 expect eval-init-bad-bias nonzero "accel-bias" -- \
   "$PLUCKER" eval init --euroc "$T/euroc" --accel-bias 1,2
+# The ground truth as TUM on the dataset's clock (exact nanoseconds as decimal seconds).
+expect convert-euroc-gt 0 "wrote 41 poses T_w_b" -- \
+  "$PLUCKER" convert euroc-gt --euroc "$T/euroc" --out "$T/euroc_gt.tum"
+expect convert-euroc-gt-stamp 0 "^1.050000000 0 0 0 0 0 0 1$" -- sed -n 5p "$T/euroc_gt.tum"
+expect convert-euroc-gt-csv 0 "" -- bash -c "'$PLUCKER' convert euroc-gt --quiet \
+  --csv '$E/state_groundtruth_estimate0/data.csv' --out '$T/euroc_gt2.tum' && \
+  cmp <(grep -v '^#' '$T/euroc_gt.tum') <(grep -v '^#' '$T/euroc_gt2.tum')"
+expect convert-euroc-gt-both nonzero "give --euroc or --csv" -- \
+  "$PLUCKER" convert euroc-gt --out "$T/x.tum"
+expect convert-euroc-gt-refuses-csv nonzero "looks like an input .csv" -- \
+  "$PLUCKER" convert euroc-gt --euroc "$T/euroc" --out "$T/x.csv"
+printf '1000000000,0,0,0,1,0,0\n' > "$T/short_gt.csv"
+expect convert-euroc-gt-bad-row nonzero "short_gt.csv:1" -- \
+  "$PLUCKER" convert euroc-gt --csv "$T/short_gt.csv" --out "$T/x.tum"
 sed -i '3s/,9.81$/,x/' "$E/imu0/data.csv"
 expect eval-imu-bad-number nonzero "imu0/data.csv:3: bad number" -- \
   "$PLUCKER" eval imu --euroc "$T/euroc"

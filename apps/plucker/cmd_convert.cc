@@ -2,6 +2,10 @@
 // multi-view set (one `<image>.camera` file per image, io/camera_calibration.h) as a KITTI poses
 // file, one `T_w_c` line per camera file in name order (= the image order of the images
 // folder), so that `plucker eval ate --align sim3` compares a reconstruction with it.
+// `plucker convert euroc-gt (--euroc DIR | --csv FILE) --out gt.tum`: a EuRoC ground truth
+// (state_groundtruth_estimate0/data.csv) as a TUM trajectory of the body (IMU) frame T_w_b, its
+// stamps the dataset's own nanoseconds written as exact decimal seconds, so that evo or
+// `plucker eval ate` compare it with an estimate on the same clock as they are.
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -10,6 +14,7 @@
 
 #include "commands.h"
 #include "plucker/io/camera_calibration.h"
+#include "plucker/io/euroc_imu.h"
 #include "plucker/io/trajectory_io.h"
 #include "run_guarded.h"
 
@@ -36,6 +41,43 @@ void RunStrecha(const StrechaArgs& a) {
   }
 }
 
+struct EurocGtArgs {
+  std::string euroc, csv, out;
+  bool quiet = false;
+};
+
+void RunEurocGt(const EurocGtArgs& a) {
+  if (a.euroc.empty() == a.csv.empty()) throw std::invalid_argument("give --euroc or --csv");
+  const std::string source =
+      a.csv.empty() ? a.euroc + "/mav0/state_groundtruth_estimate0/data.csv" : a.csv;
+  if (a.out.size() >= 4 && a.out.compare(a.out.size() - 4, 4, ".csv") == 0) {
+    throw std::invalid_argument("--out " + a.out + " looks like an input .csv file; refusing");
+  }
+  io::EurocGroundTruth gt;
+  if (a.csv.empty()) {
+    io::EurocImuRecording r = io::ReadEurocImuRecording(a.euroc);
+    if (r.ground_truth.empty()) throw io::IoError(source, "no ground truth in this folder");
+    gt.origin_ns = r.origin_ns;
+    gt.states = std::move(r.ground_truth);
+  } else {
+    gt = io::ReadEurocGroundTruthCsv(a.csv);
+  }
+  std::vector<double> times;
+  std::vector<SE3d> poses;
+  for (const sensor::BodyState& s : gt.states) {
+    times.push_back(s.t);
+    poses.push_back(s.T_w_b);
+  }
+  io::WriteTumTrajectoryOnClock(a.out, gt.origin_ns, times, poses,
+                                {"EuRoC ground truth " + source,
+                                 "T_w_b: body (IMU) frame in the ground truth's world; stamps in "
+                                 "seconds on the dataset's clock"});
+  if (!a.quiet) {
+    std::cout << "wrote " << poses.size() << " poses T_w_b from " << source << " to " << a.out
+              << "\n";
+  }
+}
+
 }  // namespace
 
 void RegisterConvert(CLI::App& app, int* exit_code) {
@@ -49,6 +91,15 @@ void RegisterConvert(CLI::App& app, int* exit_code) {
   strecha->add_flag("--quiet", args->quiet, "No summary line");
   strecha->callback(
       [args, exit_code] { RunGuarded("convert", exit_code, [&] { RunStrecha(*args); }); });
+  auto gt_args = std::make_shared<EurocGtArgs>();
+  CLI::App* euroc = cmd->add_subcommand(
+      "euroc-gt", "EuRoC ground truth csv -> TUM T_w_b on the dataset's clock (seconds)");
+  euroc->add_option("--euroc", gt_args->euroc, "EuRoC folder (with mav0/)");
+  euroc->add_option("--csv", gt_args->csv, "A ground-truth csv (state_groundtruth_estimate0)");
+  euroc->add_option("--out", gt_args->out, "TUM file to write")->required();
+  euroc->add_flag("--quiet", gt_args->quiet, "No summary line");
+  euroc->callback(
+      [gt_args, exit_code] { RunGuarded("convert", exit_code, [&] { RunEurocGt(*gt_args); }); });
 }
 
 }  // namespace app

@@ -189,6 +189,14 @@ sensor::ImuModel ParseEurocImuYaml(const std::string& text, const std::string& n
   return m;
 }
 
+EurocGroundTruth ReadEurocGroundTruthCsv(const std::string& path) {
+  EurocGroundTruth g;
+  const std::string text = ReadFileToString(path);
+  g.origin_ns = FirstTimestamp(text, path);
+  g.states = ParseEurocGroundTruthCsv(text, path, g.origin_ns);
+  return g;
+}
+
 EurocImuRecording ReadEurocImuRecording(const std::string& dir) {
   fs::path mav0 = fs::path(dir) / "mav0";
   if (!fs::is_directory(mav0)) mav0 = fs::path(dir);

@@ -38,6 +38,14 @@ struct EurocImuRecording {
 // `dir` is the dataset folder (with mav0/) or mav0 itself.
 EurocImuRecording ReadEurocImuRecording(const std::string& dir);
 
+// A ground-truth csv alone (state_groundtruth_estimate0/data.csv or a file of its layout), its
+// times in seconds since its own first row, `origin_ns`. Throws IoError.
+struct EurocGroundTruth {
+  std::int64_t origin_ns = 0;
+  std::vector<sensor::BodyState> states;
+};
+EurocGroundTruth ReadEurocGroundTruthCsv(const std::string& path);
+
 // The single readers, for tests and other layouts. `name` is used in error messages.
 std::vector<sensor::ImuSample> ParseEurocImuCsv(const std::string& text, const std::string& name,
                                                 std::int64_t origin_ns);

@@ -207,6 +207,40 @@ void WriteTumTrajectory(const std::string& path, const std::vector<double>& time
   WriteFileAtomically(path, out);
 }
 
+std::string FormatNanosecondsAsSeconds(std::int64_t ns) {
+  const bool negative = ns < 0;
+  // The magnitude as unsigned, so that INT64_MIN has one too.
+  const std::uint64_t m = negative ? 0 - static_cast<std::uint64_t>(ns) : ns;
+  std::string frac = std::to_string(m % 1000000000ULL);
+  frac.insert(0, 9 - frac.size(), '0');
+  return (negative ? "-" : "") + std::to_string(m / 1000000000ULL) + "." + frac;
+}
+
+void WriteTumTrajectoryOnClock(const std::string& path, std::int64_t origin_ns,
+                               const std::vector<double>& times, const std::vector<SE3d>& poses,
+                               const std::vector<std::string>& header) {
+  if (times.size() != poses.size()) {
+    throw IoError(path, "cannot write a TUM trajectory with " + std::to_string(times.size()) +
+                            " times and " + std::to_string(poses.size()) + " poses");
+  }
+  std::string out;
+  for (const std::string& line : header) out += "# " + line + "\n";
+  out += "# t tx ty tz qx qy qz qw\n";
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    // |t| below 2^62 ns (146 years) keeps the sum in range.
+    if (!std::isfinite(times[i]) || std::abs(times[i]) > 4.6e9) {
+      throw IoError(path, "cannot write time " + FormatDouble(times[i]) + " on the clock");
+    }
+    out += FormatNanosecondsAsSeconds(origin_ns + std::llround(times[i] * 1e9));
+    const Eigen::Vector3d& t = poses[i].translation();
+    const Eigen::Quaterniond& q = poses[i].rotation();
+    const double v[7] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int k = 0; k < 7; ++k) out += ' ' + FormatDouble(v[k]);
+    out += '\n';
+  }
+  WriteFileAtomically(path, out);
+}
+
 std::vector<double> ReadTimes(const std::string& path) {
   const std::string text = ReadWholeFile(path);
   std::istringstream in(text);

@@ -10,6 +10,7 @@
 // zero or far-from-unit rejected), decreasing TUM timestamps, and an empty file.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,18 @@ void WriteKittiPoses(const std::string& path, const std::vector<SE3d>& poses);
 // IoError (also if the sizes differ).
 void WriteTumTrajectory(const std::string& path, const std::vector<double>& times,
                         const std::vector<SE3d>& poses);
+
+// A TUM trajectory on a recording's own clock: each time is `origin_ns` (integer nanoseconds, e.g.
+// EuRoC's first IMU timestamp) plus times[i] seconds, rounded to the nanosecond and written as
+// exact decimal seconds with nine digits (`1403638538.577829376`), so that the stamps read back as
+// the dataset's own (evo, `plucker eval`). `header` lines (without '#') are written first as
+// comments, e.g. the frame the poses are in. Throws IoError (also if the sizes differ, or a time is
+// not finite).
+void WriteTumTrajectoryOnClock(const std::string& path, std::int64_t origin_ns,
+                               const std::vector<double>& times, const std::vector<SE3d>& poses,
+                               const std::vector<std::string>& header = {});
+// The text of one such stamp: integer nanoseconds as decimal seconds (nine digits after the point).
+std::string FormatNanosecondsAsSeconds(std::int64_t ns);
 
 // KITTI poses of a set of cameras of which some may be missing (e.g. views a reconstruction did
 // not register): a missing camera is a line of twelve `nan`. Same errors as ReadTrajectory

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -213,6 +215,46 @@ TEST(TrajectoryIo, ReadsSharedKittiGroundTruth) {
   const Trajectory t = ReadTrajectory(path);
   EXPECT_EQ(t.poses.size(), 16u);
   EXPECT_TRUE(t.times.empty());
+}
+
+TEST(TrajectoryIo, NanosecondsAsExactDecimalSeconds) {
+  EXPECT_EQ(FormatNanosecondsAsSeconds(1403638538577829376LL), "1403638538.577829376");
+  EXPECT_EQ(FormatNanosecondsAsSeconds(0), "0.000000000");
+  EXPECT_EQ(FormatNanosecondsAsSeconds(5), "0.000000005");
+  EXPECT_EQ(FormatNanosecondsAsSeconds(-1500000000LL), "-1.500000000");
+  EXPECT_EQ(FormatNanosecondsAsSeconds(INT64_MIN), "-9223372036.854775808");
+}
+
+TEST(TrajectoryIo, TumOnTheDatasetClockKeepsEveryNanosecond) {
+  const std::int64_t origin = 1403638538577829376LL;
+  // Offsets of a long recording (hours), as seconds since the origin the way the readers give
+  // them: (ns - origin) * 1e-9.
+  const std::vector<std::int64_t> offsets = {0, 1, 49999999, 50000001, 3600123456789LL};
+  std::vector<double> times;
+  std::vector<SE3d> poses;
+  for (std::int64_t d : offsets) {
+    times.push_back(static_cast<double>(d) * 1e-9);
+    poses.push_back(SE3d(Eigen::Quaterniond(0.5, 0.5, -0.5, 0.5), Eigen::Vector3d(1, -2, 3)));
+  }
+  const std::string path = TempPath("clock") + ".tum";
+  WriteTumTrajectoryOnClock(path, origin, times, poses, {"T_w_b: body frame"});
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "# T_w_b: body frame");
+  std::getline(in, line);
+  EXPECT_EQ(line, "# t tx ty tz qx qy qz qw");
+  for (std::int64_t d : offsets) {
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line.substr(0, line.find(' ')), FormatNanosecondsAsSeconds(origin + d));
+  }
+  const Trajectory back = ReadTrajectory(path);
+  ASSERT_EQ(back.poses.size(), offsets.size());
+  EXPECT_NEAR(back.times.back(), 1403638538.577829376 + 3600.123456789, 1e-6);
+  EXPECT_TRUE(back.poses[0].translation().isApprox(Eigen::Vector3d(1, -2, 3)));
+  EXPECT_THROW(WriteTumTrajectoryOnClock(path, origin, {0.0}, {}), IoError);
+  EXPECT_THROW(WriteTumTrajectoryOnClock(path, origin, {std::nan("")}, {SE3d()}), IoError);
+  std::remove(path.c_str());
 }
 
 }  // namespace
