@@ -15,7 +15,7 @@
 #     --work DIR       simulations and poses (default a temporary folder, removed)
 #     -- ARGS          further arguments for every `plucker vo` run (e.g. --config FILE)
 # Point strides: room 10 (about 10 point tracks per frame against 29 segments), corridor 40
-# (about 14 against 73): the scarce-points setting of the README.
+# (about 14 against 73): the scarce-points setting of docs/results/vo.md.
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -206,7 +206,8 @@ int RunBenchLines(const BenchLinesArgs& a) {
 void RegisterBenchLines(CLI::App& bench, int* exit_code) {
   auto a = std::make_shared<BenchLinesArgs>();
   CLI::App* cmd = bench.add_subcommand(
-      "lines", "Line detectors on York Urban: P/R/F at 2 and 5 px, ms per image (README table)");
+      "lines",
+      "Line detectors on York Urban: P/R/F at 2 and 5 px, ms per image (docs/results/lines.md)");
   cmd->add_option("--data", a->data, "Folder with images/ and gt/")->capture_default_str();
   cmd->add_option("--repeat", a->repeat, "Time each detection this many times, keep the best")
       ->capture_default_str();

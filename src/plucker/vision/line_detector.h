@@ -11,10 +11,10 @@
 //   2. optional refinement: a re-fit to the sub-pixel gradient maxima across the segment, a second
 //      fit without the maxima far from the first (off by default: +0.001 F at 2 px on York
 //      Urban, not worth its time; on Strecha fountain-P11 it lowers the line residuals of
-//      `plucker sfm --refine-segments` but not the camera error, README),
+//      `plucker sfm --refine-segments` but not the camera error, docs/results/sfm.md),
 //   3. extension: each endpoint is pushed along the segment while the edge continues.
 // Thresholds were tuned on the even-indexed York Urban images and checked on the odd ones
-// (README, `plucker bench lines`).
+// (docs/results/lines.md, `plucker bench lines`).
 // No file I/O, no printing, no timing: the caller times DetectLineSegments.
 #pragma once
 

@@ -113,7 +113,7 @@ TEST(LineTracker, BadInput) {
 }
 
 // The first frames of the real KITTI clip: tracks of 3+ views against the ground-truth poses
-// (the whole clip: `plucker lines track`, README).
+// (the whole clip: `plucker lines track`, docs/results/lines.md).
 TEST(LineTracker, RealKittiClipFirstFrames) {
   const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
   if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
