@@ -26,8 +26,9 @@ function(plucker_add_library)
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   file(GLOB headers "${CMAKE_CURRENT_SOURCE_DIR}/*.h")
-  # Test scaffolding that lives next to the code it tests is not installed either.
-  list(FILTER headers EXCLUDE REGEX "(_test_utils|fuzz_util)\\.h$")
+  # Test scaffolding that lives next to the code it tests is not installed either, nor the
+  # private headers of a layer (x_internal.h: its implementation split over several files).
+  list(FILTER headers EXCLUDE REGEX "(_test_utils|fuzz_util|_internal)\\.h$")
   install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/plucker/${ARG_NAME})
 endfunction()
 

@@ -57,6 +57,22 @@
 // its visual observations into the prior (FEJ as above). Gauge: position and yaw (4-DoF); until
 // the first marginalization the oldest pose is held. The first keyframe carries priors on its
 // biases and velocity from the initialisation.
+//
+// Code layout: this header is the whole public API; the implementation is split by
+// responsibility over the window_*.cc files and the two marginalization strategies, mapped in
+// window_internal.h (docs/vo.md, "Code layout").
+//
+// Renames proposed for after the odometry pipelines land (issue 25; not applied yet, callers
+// are written against these names now):
+//   InertialOptions::max_keyframe_interval_s -> max_imu_factor_span_s (a keyframe at the latest
+//     this long after the previous one, tracked or not; SlidingWindowOptions'
+//     max_keyframe_interval_s stays: the visual policy, only for tracked frames, 0 = off).
+//   window::FrameResult -> window::WindowFrameResult (lidar::FrameResult is the LiDAR one).
+//   window::LossKind {kTrivial, kHuber, kCauchy} and lidar::RobustLoss {kHuber, kCauchy, kNone}
+//     -> one factors::RobustLoss {kNone, kHuber, kCauchy} with the loss function made from it.
+//   window::InertialState, sensor::BodyState and the alignment's parallel T_w_bk / velocities_w /
+//     bias -> sensor::BodyState {t, T_w_b, v_w, ImuBias bias} (ImuBias moved to sensor/imu.h),
+//     the alignment returning std::vector<sensor::BodyState>.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,0 +1,76 @@
+// Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, time since the
+// newest keyframe; InertialOptions::max_keyframe_interval_s in the inertial mode).
+#include <unordered_map>
+
+#include "plucker/geometry/median.h"
+#include "plucker/geometry/orthonormal_line.h"
+#include "plucker/window/window_internal.h"
+
+namespace plucker {
+namespace window {
+
+using internal::Frame;
+using internal::TrackResult;
+
+double SlidingWindowEstimator::Impl::Parallax(const Frame& f) const {
+  const Frame& kf = *keyframes.back();
+  std::unordered_map<int, Eigen::Vector2d> kf_uv;
+  for (const auto& p : kf.input.points) kf_uv[p.point_id] = p.uv;
+  const Eigen::Matrix3d R_c_kf =
+      f.T_w_c().RotationMatrix().transpose() * kf.T_w_c().RotationMatrix();
+  std::vector<double> d;
+  for (const auto& p : f.input.points) {
+    const auto it = kf_uv.find(p.point_id);
+    if (it == kf_uv.end()) continue;
+    const Eigen::Vector3d ray = R_c_kf * Eigen::Vector3d((it->second.x() - K.cx) / K.fx,
+                                                         (it->second.y() - K.cy) / K.fy, 1.0);
+    if (ray.z() <= 1e-6) continue;
+    const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
+    d.push_back((uv - p.uv).norm());
+  }
+  if (d.size() >= 8) return UpperMedian(d);
+  // Too few common points (scarce points, many lines): the parallax the baseline to the newest
+  // keyframe induces at the median depth of the tracked landmarks, f * baseline / depth.
+  const SE3d T_c_w = f.T_w_c().Inverse();
+  const Eigen::Vector3d centre = f.T_w_c().translation();
+  std::vector<double> depth;
+  for (std::size_t i = 0; i < f.input.points.size(); ++i) {
+    const auto it = points.find(f.input.points[i].point_id);
+    if (it == points.end() || f.point_outlier[i]) continue;
+    const double z =
+        (T_c_w * Eigen::Vector3d(it->second->p[0], it->second->p[1], it->second->p[2])).z();
+    if (z > 0.0) depth.push_back(z);
+  }
+  for (std::size_t i = 0; i < f.input.segments.size(); ++i) {
+    const auto it = lines.find(f.input.segments[i].line_id);
+    if (it == lines.end() || f.segment_outlier[i]) continue;
+    const Line6d L_w = WorldFromAnchored(
+        PluckerFromOrthonormal(OrthonormalLine::FromParameters(it->second->block)),
+        it->second->anchor);
+    const std::optional<double> dist = PointLineDistance(L_w, centre);
+    if (dist && *dist > 0.0) depth.push_back(*dist);
+  }
+  if (depth.empty()) return 0.0;
+  const double baseline = (centre - kf.T_w_c().translation()).norm();
+  return 0.5 * (K.fx + K.fy) * baseline / UpperMedian(depth);
+}
+
+bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
+                                                  FrameResult* result) const {
+  result->parallax_px = Parallax(f);
+  const int observed = static_cast<int>(f.input.points.size() + f.input.segments.size());
+  const double since_keyframe = f.input.time - keyframes.back()->input.time;
+  const bool keyframe =
+      track.ok &&
+      (result->parallax_px >= opt.keyframe_parallax_px ||
+       track.points + track.lines < opt.min_tracked ||
+       track.points + track.lines < opt.min_tracked_ratio * observed ||
+       (opt.max_keyframe_interval_s > 0.0 && since_keyframe >= opt.max_keyframe_interval_s));
+  // Inertial mode: also when InertialOptions::max_keyframe_interval_s has passed, tracked or not
+  // (the IMU factors stay short, a standing body keeps its window).
+  if (opt.inertial) return keyframe || since_keyframe >= opt.inertial->max_keyframe_interval_s;
+  return keyframe;
+}
+
+}  // namespace window
+}  // namespace plucker

@@ -1,0 +1,181 @@
+// The residuals of the window (observations, pose priors, retained line observations) and the
+// Ceres problem assembled from them, with first-estimate Jacobians on the blocks of the prior.
+#include <ceres/autodiff_cost_function.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "plucker/factors/held_extrinsic_factor.h"
+#include "plucker/factors/point_reprojection_factor.h"
+#include "plucker/window/window_factors_internal.h"
+#include "plucker/window/window_internal.h"
+
+namespace plucker {
+namespace window {
+
+using internal::FirstEstimateCost;
+using internal::Frame;
+using internal::ObservationBlock;
+using internal::PosePriorResidual;
+using internal::ResidualSpec;
+using internal::RetainedPose;
+
+ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(const Eigen::Vector2d& uv) const {
+  if (!opt.inertial) return PointReprojectionFactor::Create(K, uv, PointSqrtInfo());
+  return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
+                                    T_b_c);
+}
+
+ceres::CostFunction* SlidingWindowEstimator::Impl::LineCost(const sensor::SegmentObservation& s,
+                                                            const LineAnchor& anchor) const {
+  if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
+  return new HeldExtrinsicFactor<6>(
+      AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor), T_b_c);
+}
+
+void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_points, bool with_lines,
+                                                        std::vector<ResidualSpec>* out) const {
+  if (with_points) {
+    for (std::size_t i = 0; i < f->input.points.size(); ++i) {
+      if (f->point_outlier[i]) continue;
+      const auto it = points.find(f->input.points[i].point_id);
+      if (it == points.end()) continue;
+      ResidualSpec r;
+      r.cost.reset(PointCost(f->input.points[i].uv));
+      r.blocks = {f->pose, it->second->p};
+      r.frame = f;
+      r.observation = static_cast<int>(i);
+      out->push_back(std::move(r));
+    }
+  }
+  if (with_lines) {
+    for (std::size_t i = 0; i < f->input.segments.size(); ++i) {
+      if (f->segment_outlier[i]) continue;
+      const auto it = lines.find(f->input.segments[i].line_id);
+      if (it == lines.end()) continue;
+      const auto& s = f->input.segments[i];
+      ResidualSpec r;
+      r.cost.reset(LineCost(s, it->second->anchor));
+      r.blocks = {f->pose, it->second->block};
+      r.frame = f;
+      r.observation = static_cast<int>(i);
+      r.is_point = false;
+      out->push_back(std::move(r));
+    }
+  }
+  if (f->input.T_w_c_prior) {
+    ResidualSpec r;
+    r.cost.reset(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
+        new PosePriorResidual{*f->input.T_w_c_prior, f->input.prior_sqrt_information}));
+    r.robust = false;
+    r.blocks = {f->pose};
+    out->push_back(std::move(r));
+  }
+}
+
+// The observations of the retained poses whose line exists (and, when `only` is given, is in
+// it), as residuals on (retained pose, line).
+void SlidingWindowEstimator::Impl::AppendRetainedResiduals(std::vector<ResidualSpec>* out,
+                                                           const std::set<int>* only,
+                                                           const RetainedPose* from) const {
+  for (const auto& rp : retained) {
+    if (from && rp.get() != from) continue;
+    for (const sensor::SegmentObservation& seg : rp->segments) {
+      const auto it = lines.find(seg.line_id);
+      if (it == lines.end() || (only && !only->count(seg.line_id))) continue;
+      ResidualSpec r;
+      r.cost.reset(LineCost(seg, it->second->anchor));
+      r.blocks = {rp->pose, it->second->block};
+      r.is_point = false;
+      out->push_back(std::move(r));
+    }
+  }
+}
+
+std::vector<const double*> SlidingWindowEstimator::Impl::FirstEstimatesOf(
+    const std::vector<double*>& blocks) const {
+  std::vector<const double*> out(blocks.size(), nullptr);
+  if (!opt.first_estimate_jacobians) return out;
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const auto it = fe.find(blocks[i]);
+    if (it != fe.end()) out[i] = it->second.data();
+  }
+  return out;
+}
+
+bool SlidingWindowEstimator::Impl::HasPosePrior() const {
+  for (const auto& f : keyframes)
+    if (f->input.T_w_c_prior) return true;
+  return false;
+}
+
+// Builds the window problem into `problem` (culling what cannot be evaluated first). Returns
+// the number of residual blocks; `observations` (optional): the keyframes' observation blocks.
+int SlidingWindowEstimator::Impl::BuildProblem(ceres::Problem* problem, bool hold_gauge,
+                                               std::vector<ObservationBlock>* observations) {
+  std::vector<ResidualSpec> residuals;
+  for (auto& f : keyframes) AppendFrameResiduals(f.get(), true, opt.use_lines, &residuals);
+  if (opt.inertial) {
+    for (std::size_t k = 0; k < keyframes.size(); ++k) AppendInertialResiduals(k, &residuals);
+  }
+  AppendRetainedResiduals(&residuals);
+  UseExtrinsicBlock(&residuals);
+  if (extrinsic_free) {
+    ResidualSpec r;
+    r.cost.reset(extrinsic_prior->CreateCostFunction());
+    r.robust = false;
+    r.blocks = {extrinsic};
+    residuals.push_back(std::move(r));
+  }
+  int n = 0;
+  for (ResidualSpec& r : residuals) {
+    if (r.frame != nullptr) {
+      double res[2];
+      std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
+      if (!r.cost->Evaluate(params.data(), res, nullptr)) {
+        (r.is_point ? r.frame->point_outlier : r.frame->segment_outlier)[r.observation] = 1;
+        continue;
+      }
+    }
+    const std::vector<const double*> first = FirstEstimatesOf(r.blocks);
+    ceres::CostFunction* cost = r.cost.release();
+    if (std::any_of(first.begin(), first.end(), [](const double* p) { return p != nullptr; })) {
+      cost = new FirstEstimateCost(cost, first);
+    }
+    const ceres::ResidualBlockId id =
+        problem->AddResidualBlock(cost, r.robust ? loss.get() : nullptr, r.blocks);
+    if (observations && r.frame != nullptr) {
+      observations->push_back({id, r.frame, r.observation, r.is_point});
+    }
+    ++n;
+  }
+  if (prior) {
+    problem->AddResidualBlock(prior->CreateCostFunction(), nullptr, prior_blocks);
+    ++n;
+  }
+  for (auto& f : keyframes) {
+    if (problem->HasParameterBlock(f->pose)) problem->SetManifold(f->pose, &pose_manifold);
+  }
+  if (problem->HasParameterBlock(extrinsic)) problem->SetManifold(extrinsic, &pose_manifold);
+  for (auto& rp : retained) {
+    if (problem->HasParameterBlock(rp->pose)) problem->SetManifold(rp->pose, &pose_manifold);
+  }
+  for (auto& [id, l] : lines) {
+    if (problem->HasParameterBlock(l->block)) problem->SetManifold(l->block, &line_manifold);
+  }
+  if (hold_gauge && !prior && !HasPosePrior() &&
+      problem->HasParameterBlock(keyframes.front()->pose)) {
+    problem->SetParameterBlockConstant(keyframes.front()->pose);
+  }
+  return n;
+}
+
+ceres::Problem::Options SlidingWindowEstimator::Impl::ProblemOptions() {
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return po;
+}
+
+}  // namespace window
+}  // namespace plucker

@@ -1,0 +1,55 @@
+// The window solve (Ceres, the problem of window_residuals.cc) and the culling after it.
+#include <ceres/solver.h>
+
+#include <cmath>
+
+#include "plucker/window/window_internal.h"
+
+namespace plucker {
+namespace window {
+
+using internal::ObservationBlock;
+
+void SlidingWindowEstimator::Impl::SolveWindow(FrameResult* result) {
+  RepropagateImu();
+  UpdateExtrinsicFree();
+  ceres::Problem problem(ProblemOptions());
+  std::vector<ObservationBlock> observations;
+  result->residuals = BuildProblem(&problem, true, &observations);
+  ceres::Solver::Options so;
+  // Dense for a poses-only prior, sparse for the landmark prior (the strategies say why).
+  so.linear_solver_type = marginalization->WindowLinearSolver();
+  so.max_num_iterations = opt.max_iterations;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  result->window_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result->initial_cost = summary.initial_cost;
+  result->final_cost = summary.final_cost;
+  SyncExtrinsic();
+  // Cull outliers (the problem's own residual blocks, at the solution) and landmarks left with
+  // too few observations.
+  result->culled_observations = CullOutliers(problem, observations);
+  result->culled_observations += PruneRetained(true);
+  RemoveWeakLandmarks();
+}
+
+// Marks the observations whose residual in `problem` (at the current values) cannot be
+// evaluated or exceeds the outlier threshold; returns the number marked.
+int SlidingWindowEstimator::Impl::CullOutliers(
+    const ceres::Problem& problem, const std::vector<ObservationBlock>& observations) const {
+  int culled = 0;
+  for (const ObservationBlock& o : observations) {
+    double res[2];
+    const bool ok = problem.EvaluateResidualBlock(o.id, false, nullptr, res, nullptr) &&
+                    std::isfinite(res[0]) && std::isfinite(res[1]);
+    if (ok && std::hypot(res[0], res[1]) <= opt.outlier_sigmas) continue;
+    (o.is_point ? o.frame->point_outlier : o.frame->segment_outlier)[o.observation] = 1;
+    ++culled;
+  }
+  return culled;
+}
+
+}  // namespace window
+}  // namespace plucker

@@ -1,0 +1,64 @@
+// New points and lines for the newest keyframe's tracks from the window's keyframes (linear
+// N-view triangulation with the parallax and conditioning checks of the options).
+#include "plucker/geometry/orthonormal_line.h"
+#include "plucker/window/window_internal.h"
+
+namespace plucker {
+namespace window {
+
+using internal::Frame;
+using internal::LineLandmark;
+using internal::PointLandmark;
+
+// New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
+void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, int* new_lines) {
+  for (const auto& obs : f.input.points) {
+    if (points.count(obs.point_id) || retired_points.count(obs.point_id)) continue;
+    std::vector<SE3d> poses;
+    std::vector<Eigen::Vector2d> uvs;
+    for (const auto& kf : keyframes) {
+      for (std::size_t i = 0; i < kf->input.points.size(); ++i) {
+        if (kf->input.points[i].point_id != obs.point_id || kf->point_outlier[i]) continue;
+        poses.push_back(kf->T_w_c());
+        uvs.push_back(kf->input.points[i].uv);
+        break;
+      }
+    }
+    if (poses.size() < 2) continue;
+    const PointTriangulationResult t = TriangulatePoint(K, poses, uvs, opt.point_triangulation);
+    if (!t.ok() || t.final_rms_px > 2.0 * opt.point_sigma_px + 1.0) continue;
+    auto lm = std::make_unique<PointLandmark>();
+    for (int i = 0; i < 3; ++i) lm->p[i] = t.p_w(i);
+    points[obs.point_id] = std::move(lm);
+    ++*new_points;
+  }
+  if (!opt.use_lines) return;
+  for (const auto& obs : f.input.segments) {
+    if (lines.count(obs.line_id) || retired_lines.count(obs.line_id)) continue;
+    std::vector<LineObservation> views;
+    for (const auto& kf : keyframes) {
+      for (std::size_t i = 0; i < kf->input.segments.size(); ++i) {
+        const auto& s = kf->input.segments[i];
+        if (s.line_id != obs.line_id || kf->segment_outlier[i]) continue;
+        views.push_back({kf->T_w_c(), s.s_px, s.e_px});
+        break;
+      }
+    }
+    if (views.size() < 2) continue;
+    const LineTriangulationResult t = TriangulateLine(K, views, opt.line_triangulation);
+    if (!t.ok() || t.sigma_ratio > opt.max_line_sigma_ratio) continue;
+    LineAnchor anchor;
+    if (opt.condition_far_lines) anchor = MakeLineAnchor(t.L_w, views.front().T_w_c.translation());
+    const std::optional<OrthonormalLine> o =
+        OrthonormalFromPlucker(AnchoredFromWorld(t.L_w, anchor));
+    if (!o) continue;
+    auto lm = std::make_unique<LineLandmark>();
+    lm->anchor = anchor;
+    o->ToParameters(lm->block);
+    lines[obs.line_id] = std::move(lm);
+    ++*new_lines;
+  }
+}
+
+}  // namespace window
+}  // namespace plucker
