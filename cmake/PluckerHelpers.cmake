@@ -27,7 +27,7 @@ function(plucker_add_library)
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   file(GLOB headers "${CMAKE_CURRENT_SOURCE_DIR}/*.h")
   # Test scaffolding that lives next to the code it tests is not installed either.
-  list(FILTER headers EXCLUDE REGEX "(_test_utils|fuzz_util)\\.h$")
+  list(FILTER headers EXCLUDE REGEX "(_test_utils|fuzz_util|_internal)\\.h$")
   install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/plucker/${ARG_NAME})
 endfunction()
 
