@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/calib3d.hpp>
+#include <random>
 
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/euroc_imu.h"
@@ -163,6 +165,35 @@ TEST(KalibrCalibration, SecondCameraEquidistantExtrinsicAndTimeShift) {
     EXPECT_NE(e.problem().find("cam1.T_cam_imu"), std::string::npos) << e.what();
   }
   EXPECT_THROW(chain.RequireT_b_c(2), IoError);
+}
+
+// Kalibr's equidistant coefficients mean what OpenCV's fisheye model means: a camera read from a
+// camchain projects points as cv::fisheye::projectPoints does (an independent implementation of
+// the same formula, with the same coefficient order).
+TEST(KalibrCalibration, EquidistantCameraProjectsLikeOpenCvFisheye) {
+  const sensor::Camera c =
+      ParseKalibrCameraChain(kEurocCamchain, "camchain.yaml").cameras[1].camera;
+  ASSERT_EQ(c.model, sensor::CameraModel::kEquidistant);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(0.0, 1.4), azimuth(-M_PI, M_PI), depth(0.5, 20);
+  std::vector<cv::Point3d> points;
+  for (int i = 0; i < 500; ++i) {
+    const double t = i == 0 ? 0.0 : angle(rng), a = azimuth(rng), d = depth(rng);
+    points.emplace_back(d * std::sin(t) * std::cos(a), d * std::sin(t) * std::sin(a),
+                        d * std::cos(t));
+  }
+  const cv::Matx33d K(c.K.fx, 0, c.K.cx, 0, c.K.fy, c.K.cy, 0, 0, 1);
+  const cv::Vec4d D(c.equidistant.k1, c.equidistant.k2, c.equidistant.k3, c.equidistant.k4);
+  std::vector<cv::Point2d> uv_cv;
+  cv::fisheye::projectPoints(points, uv_cv, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, D);
+  ASSERT_EQ(uv_cv.size(), points.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto uv = c.Project(Eigen::Vector3d(points[i].x, points[i].y, points[i].z));
+    ASSERT_TRUE(uv.has_value()) << i;
+    worst = std::max(worst, (*uv - Eigen::Vector2d(uv_cv[i].x, uv_cv[i].y)).norm());
+  }
+  EXPECT_LT(worst, 1e-9);  // pixels
 }
 
 TEST(KalibrCalibration, ImuYamlGivesTheEurocImuModel) {
