@@ -1,5 +1,7 @@
 #include "plucker/io/camera_calibration.h"
 
+#include "plucker/io/calibration_yaml_internal.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/SVD>
@@ -15,38 +17,10 @@ namespace plucker {
 namespace io {
 namespace {
 
+using namespace internal;  // NOLINT(build/namespaces): the shared field readers
+
 constexpr double kMaxOrthonormalityError = 1e-3;  // max |R^T R - I| accepted (then repaired)
 constexpr double kMaxRelativeSkew = 1e-9;         // |K(0,1)| / fx treated as zero skew
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
-std::string ReadText(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open the file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read error");
-  return s.str();
-}
-
-double ParseNumber(const std::string& token, const std::string& path, const std::string& what) {
-  const char* begin = token.c_str();
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(begin, &end);
-  if (end == begin || *end != '\0') {
-    throw IoError(path, what + " is not a number: '" + token + "'");
-  }
-  if (!std::isfinite(v)) throw IoError(path, what + " is not finite: '" + token + "'");
-  return v;
-}
 
 // All whitespace-separated numbers of `text`; `what` names them in errors.
 std::vector<double> ParseNumbers(const std::string& text, const std::string& path,
@@ -59,14 +33,6 @@ std::vector<double> ParseNumbers(const std::string& text, const std::string& pat
         ParseNumber(token, path, what + " value " + std::to_string(values.size() + 1)));
   }
   return values;
-}
-
-void ExpectCount(const std::vector<double>& v, std::size_t n, const std::string& path,
-                 const std::string& what) {
-  if (v.size() != n) {
-    throw IoError(path, what + ": expected " + std::to_string(n) + " numbers, found " +
-                            std::to_string(v.size()));
-  }
 }
 
 // K from a 3x3 upper-left block: zero skew, last row (0, 0, 1).
@@ -86,25 +52,6 @@ PinholeIntrinsics IntrinsicsFrom(const Eigen::Matrix3d& K, const std::string& pa
   return PinholeIntrinsics{K(0, 0), K(1, 1), K(0, 2), K(1, 2)};
 }
 
-sensor::Camera CheckedCamera(const sensor::Camera& camera, const std::string& path) {
-  const std::string problem = camera.Problem();
-  if (!problem.empty()) throw IoError(path, problem);
-  return camera;
-}
-
-// The nearest rotation of an almost-orthonormal R; rejects anything else.
-Eigen::Matrix3d CheckedRotation(const Eigen::Matrix3d& R, const std::string& path,
-                                const std::string& what) {
-  const double det = R.determinant();
-  const double error = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (!(det > 0.0) || !(error <= kMaxOrthonormalityError)) {
-    throw IoError(path, what + " is not a rotation (max |R^T R - I| = " + Num(error) +
-                            ", det = " + Num(det) + ")");
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();
-}
-
 Eigen::Matrix3d RowMajor3x3(const std::vector<double>& v, std::size_t offset) {
   Eigen::Matrix3d m;
   for (int r = 0; r < 3; ++r) {
@@ -113,59 +60,9 @@ Eigen::Matrix3d RowMajor3x3(const std::vector<double>& v, std::size_t offset) {
   return m;
 }
 
-int ImageDimension(double v, const std::string& path, const std::string& what) {
-  if (!(v >= 1.0) || v > 1e6 || v != std::floor(v)) {
-    throw IoError(path, what + " = " + Num(v) + " is not a positive integer");
-  }
-  return static_cast<int>(v);
-}
-
 // ---- EuRoC YAML ----
 
-YAML::Node Required(const YAML::Node& node, const std::string& key, const std::string& path) {
-  const YAML::Node child = node[key];
-  if (!child.IsDefined() || child.IsNull()) throw IoError(path, "missing key '" + key + "'");
-  return child;
-}
-
-double YamlNumber(const YAML::Node& node, const std::string& path, const std::string& what) {
-  if (!node.IsScalar()) throw IoError(path, what + " is not a number");
-  // Through ParseNumber (not yaml-cpp's as<double>) so that ".nan" and "1e400" are rejected and
-  // the message shows the text.
-  return ParseNumber(node.Scalar(), path, what);
-}
-
-std::vector<double> YamlNumbers(const YAML::Node& node, const std::string& key,
-                                const std::string& path) {
-  if (!node.IsSequence()) throw IoError(path, "'" + key + "' is not a list of numbers");
-  std::vector<double> v;
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    v.push_back(YamlNumber(node[i], path, "'" + key + "' value " + std::to_string(i + 1)));
-  }
-  return v;
-}
-
-std::string YamlString(const YAML::Node& node, const std::string& key, const std::string& path) {
-  if (!node.IsScalar()) throw IoError(path, "'" + key + "' is not a string");
-  return node.Scalar();
-}
-
-YAML::Node LoadYaml(const std::string& path) {
-  std::string text = ReadText(path);
-  // OpenCV's FileStorage writes `%YAML:1.0`, which is not a YAML directive: drop that line.
-  if (text.rfind("%YAML:", 0) == 0) {
-    const std::size_t eol = text.find('\n');
-    text = eol == std::string::npos ? std::string() : text.substr(eol + 1);
-  }
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw IoError(path, std::string("not valid YAML: ") + e.what());
-  }
-  if (!root.IsMap()) throw IoError(path, "not a YAML map of keys");
-  return root;
-}
+YAML::Node LoadYaml(const std::string& path) { return ParseYamlMap(ReadText(path), path); }
 
 SE3d EurocTransform(const YAML::Node& root, const std::string& path) {
   const YAML::Node t_bs = Required(root, "T_BS", path);
@@ -182,7 +79,8 @@ SE3d EurocTransform(const YAML::Node& root, const std::string& path) {
   }
   Eigen::Matrix3d R;
   R << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-  return SE3d(CheckedRotation(R, path, "'T_BS' rotation"), Eigen::Vector3d(v[3], v[7], v[11]));
+  return SE3d(CheckedRotation(R, path, "'T_BS' rotation", kMaxOrthonormalityError),
+              Eigen::Vector3d(v[3], v[7], v[11]));
 }
 
 }  // namespace
@@ -228,7 +126,7 @@ StrechaCamera ReadStrechaCamera(const std::string& path) {
   camera.distortion.k1 = v[9];
   camera.distortion.k2 = v[10];
   camera.distortion.k3 = v[11];
-  const Eigen::Matrix3d R = CheckedRotation(RowMajor3x3(v, 12), path, "R");
+  const Eigen::Matrix3d R = CheckedRotation(RowMajor3x3(v, 12), path, "R", kMaxOrthonormalityError);
   const Eigen::Vector3d C(v[21], v[22], v[23]);
   camera.width = ImageDimension(v[24], path, "width");
   camera.height = ImageDimension(v[25], path, "height");

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "euroc_fuzz.cc"      // NOLINT(build/include): the fuzz targets are not in the library
+#include "kalibr_fuzz.cc"     // NOLINT(build/include)
 #include "kitti_bin_fuzz.cc"  // NOLINT(build/include)
 #include "pcd_fuzz.cc"        // NOLINT(build/include)
 #include "pose_fuzz.cc"       // NOLINT(build/include)
@@ -44,6 +45,13 @@ TEST(FuzzTargets, SeedsParse) {
   for (const std::string& s : PoseSeeds()) {
     EXPECT_EQ(ParseTrajectory(s, "seed", TrajectoryFormat::kAuto).poses.size(), 2u);
   }
+}
+
+TEST(FuzzTargets, Kalibr) {
+  const std::vector<std::string> seeds = KalibrSeeds();
+  EXPECT_EQ(ParseKalibrCameraChain(seeds[0], "seed").cameras.size(), 2u);
+  EXPECT_EQ(ParseKalibrImu(seeds[1], "seed").rate_hz, 200.0);
+  RunCorpus(&KalibrOneInput, seeds, 600, 6);  // YAML parses are slow under ASan
 }
 
 TEST(FuzzTargets, KittiBin) { RunCorpus(&KittiBinOneInput, KittiBinSeeds(), 4000, 1); }

@@ -11,6 +11,7 @@ namespace sensor {
 namespace {
 
 using sensor::testing::EurocCam0;
+using sensor::testing::TumViCam0;
 
 TEST(Camera, ValidityNamesTheProblem) {
   EXPECT_TRUE(EurocCam0().IsValid());
@@ -82,6 +83,84 @@ TEST(Camera, ProjectAndInImage) {
   EXPECT_FALSE(c.InImage(Eigen::Vector2d(752, 100)));
   EXPECT_FALSE(c.InImage(Eigen::Vector2d(-0.6, 100)));
   EXPECT_FALSE(c.PixelToNormalized(Eigen::Vector2d(std::numeric_limits<double>::infinity(), 0)));
+}
+
+// Every pixel of a grid over the fisheye image inside the 180 deg field of view goes to a
+// bearing and back to 1e-9 px (and through normalized coordinates, away from 90 deg); the
+// pixels beyond it (the image corners of this 195 deg lens) are refused in both directions.
+TEST(Camera, EquidistantRoundTripAndRefusal) {
+  const Camera c = TumViCam0();
+  ASSERT_TRUE(c.IsValid()) << c.Problem();
+  EXPECT_FALSE(c.IsPinhole());
+  const double edge = c.equidistant.ThetaD(M_PI / 2);  // distorted radius at 90 deg
+  int inside = 0, refused = 0;
+  double worst = 0, worst_normalized = 0;
+  for (int v = 0; v < c.height; v += 8) {
+    for (int u = 0; u < c.width; u += 8) {
+      const Eigen::Vector2d uv(u, v);
+      const auto bearing = c.PixelToBearing(uv);
+      if (c.PixelToDistortedNormalized(uv).norm() > edge) {
+        EXPECT_FALSE(bearing.has_value()) << u << " " << v;
+        EXPECT_FALSE(c.PixelToNormalized(uv).has_value());
+        ++refused;
+        continue;
+      }
+      ASSERT_TRUE(bearing.has_value()) << u << " " << v;
+      EXPECT_NEAR(bearing->norm(), 1.0, 1e-15);
+      if (bearing->z() > 1e-9) {
+        const auto back = c.Project(2.5 * *bearing);
+        ASSERT_TRUE(back.has_value()) << u << " " << v;
+        worst = std::max(worst, (*back - uv).norm());
+      }
+      if (bearing->z() > 1e-3) {
+        const auto xn = c.PixelToNormalized(uv);
+        ASSERT_TRUE(xn.has_value());
+        worst_normalized = std::max(worst_normalized, (c.NormalizedToPixel(*xn) - uv).norm());
+        EXPECT_LT((*c.DistortPixel(*c.UndistortPixel(uv)) - uv).norm(), 1e-9);
+      }
+      ++inside;
+    }
+  }
+  EXPECT_GT(inside, 3000);
+  EXPECT_GT(refused, 100);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst_normalized, 1e-9);
+  // Behind the camera, at its centre, non-finite: no pixel.
+  EXPECT_FALSE(c.Project(Eigen::Vector3d(1, 0, -0.1)).has_value());
+  EXPECT_FALSE(c.Project(Eigen::Vector3d::Zero()).has_value());
+  EXPECT_EQ(*c.Project(Eigen::Vector3d(0, 0, 3)), Eigen::Vector2d(c.K.cx, c.K.cy));
+  // The undistorted twin is the radial-tangential pinhole with the same K.
+  const Camera ideal = c.Undistorted();
+  EXPECT_TRUE(ideal.IsPinhole());
+  EXPECT_EQ(ideal.model, CameraModel::kRadialTangential);
+  Camera bad = c;
+  bad.equidistant.k4 = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(bad.Problem().find("equidistant"), std::string::npos) << bad.Problem();
+  EXPECT_STREQ(CameraModelName(c.model), "equidistant");
+  EXPECT_STREQ(CameraModelName(ideal.model), "radtan");
+}
+
+// ProjectWithJacobian gives Project's value bit for bit (both models), and radtan's bearing is
+// its normalized point's direction.
+TEST(Camera, ProjectWithJacobianMatchesProject) {
+  for (const Camera& c : {EurocCam0(), TumViCam0(), EurocCam0().Undistorted()}) {
+    for (const Eigen::Vector3d& p :
+         {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0.3, -0.2, 1.5), Eigen::Vector3d(-2, 1, 0.8)}) {
+      Eigen::Matrix<double, 2, 3> J;
+      const auto a = c.Project(p);
+      const auto b = c.ProjectWithJacobian(p, &J);
+      ASSERT_EQ(a.has_value(), b.has_value());
+      if (a) {
+        EXPECT_EQ(*a, *b);
+      }
+    }
+    EXPECT_FALSE(c.ProjectWithJacobian(Eigen::Vector3d(0, 0, -1), nullptr).has_value());
+  }
+  const Camera c = EurocCam0();
+  const Eigen::Vector2d uv(100, 400);
+  const Eigen::Vector2d xn = *c.PixelToNormalized(uv);
+  EXPECT_LT((*c.PixelToBearing(uv) - Eigen::Vector3d(xn.x(), xn.y(), 1).normalized()).norm(),
+            1e-15);
 }
 
 }  // namespace

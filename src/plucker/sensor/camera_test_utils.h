@@ -20,6 +20,20 @@ inline Camera EurocCam0() {
   return c;
 }
 
+// The TUM-VI cam0 calibration (Kalibr pinhole-equi, 512x512, a 195 deg lens): the image corners
+// lie beyond 90 deg from the axis, outside the camera's valid field of view.
+inline Camera TumViCam0() {
+  Camera c;
+  c.K = PinholeIntrinsics{190.97847715128717, 190.9733070521226, 254.93170605935475,
+                          256.8974428996504};
+  c.model = CameraModel::kEquidistant;
+  c.equidistant = EquidistantDistortion{0.0034823894022493434, 0.0007150348452162257,
+                                        -0.0020532361418706202, 0.00020293673591811182};
+  c.width = 512;
+  c.height = 512;
+  return c;
+}
+
 }  // namespace testing
 }  // namespace sensor
 }  // namespace plucker

@@ -11,6 +11,7 @@ namespace verify {
 std::vector<NamedJacobianCheck> SE3JacobianChecks();              // se3_checks.cc
 std::vector<NamedJacobianCheck> LineJacobianChecks();             // line_checks.cc
 std::vector<NamedJacobianCheck> ProjectionJacobianChecks();       // projection_checks.cc
+std::vector<NamedJacobianCheck> CameraJacobianChecks();           // camera_checks.cc
 std::vector<NamedJacobianCheck> LidarFactorJacobianChecks();      // lidar_factor_checks.cc
 std::vector<NamedJacobianCheck> PointFactorJacobianChecks();      // point_factor_checks.cc
 std::vector<NamedJacobianCheck> LineFactorJacobianChecks();       // line_factor_checks.cc

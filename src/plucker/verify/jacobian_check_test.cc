@@ -30,9 +30,9 @@ INSTANTIATE_TEST_SUITE_P(Registry, AllChecks, ::testing::ValuesIn(AllJacobianChe
 
 // The parameterised test above runs whatever the registry holds; this pins how much that is.
 TEST(Registry, HoldsEveryCheck) {
-  EXPECT_EQ(GeometryJacobianChecks().size(), 12u);
+  EXPECT_EQ(GeometryJacobianChecks().size(), 15u);
   EXPECT_EQ(FactorJacobianChecks().size(), 14u);
-  EXPECT_EQ(AllJacobianChecks().size(), 26u);
+  EXPECT_EQ(AllJacobianChecks().size(), 29u);
 }
 
 // Ridders' differences against the exact derivative of a function that varies on a scale of

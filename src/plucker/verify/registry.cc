@@ -13,6 +13,7 @@ std::vector<NamedJacobianCheck> GeometryJacobianChecks() {
   std::vector<NamedJacobianCheck> all = SE3JacobianChecks();
   Append(&all, LineJacobianChecks());
   Append(&all, ProjectionJacobianChecks());
+  Append(&all, CameraJacobianChecks());
   return all;
 }
 
