@@ -91,6 +91,8 @@ void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
       total += f.ms[s];
     }
     j["ms"]["total"] = total;
+    if (!f.frontend.is_null())  // the image's own stages, where they were before (kept)
+      for (int s = kRead; s <= kLines; ++s) j["frontend"]["ms"][kVoStageNames[s]] = f.ms[s];
     frame_ms.push_back(total);
     if (f.online != odometry::MonocularStatus::kTracking &&
         f.online != odometry::MonocularStatus::kLost)
