@@ -159,6 +159,11 @@ expect vo-reinit 0 "3 lost, 1 re-initialisations" -- \
   --config "$T/vo_gap5.yaml"
 expect vo-reinit-rows 0 "^30$" -- bash -c "wc -l < '$T/vo_gap.txt'"
 expect vo-reinit-json 0 '"scale": "chained"' -- cat "$T/vo_gap.json"
+# --out-online: the poses as each frame's call returned them (nan rows: no pose when the frame came,
+# e.g. during the new start's search); --out (the refined view) is the same with it or without.
+expect vo-out-online 0 "^30 nan" -- bash -c "'$PLUCKER' vo --features '$T/cam_gap' --quiet \
+  --out '$T/vo_gap2.txt' --out-online '$T/vo_gap_on.txt' --config '$T/vo_gap5.yaml' &&
+  cmp '$T/vo_gap.txt' '$T/vo_gap2.txt' && echo \$(wc -l < '$T/vo_gap_on.txt') \$(grep -m1 -o nan '$T/vo_gap_on.txt')"
 # --config: a good file, an unknown key, a bad value, a value out of range.
 printf 'window:\n  size: 5\n  prior_on_poses_only: true\nlines.max_segments: 30\n' > "$T/vo_ok.yaml"
 expect vo-config 0 "10 frames" -- \

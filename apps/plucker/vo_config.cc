@@ -98,22 +98,22 @@ const std::vector<Row>& Table() {
           "window.point_min_parallax_deg", "parallax of a new point [deg]", 0.0, 90.0,
           [](VoConfig& c) -> double& { return c.window.point_triangulation.min_parallax_deg; }),
       Value<int>("init.max_gap", "frames searched for the second view of the start", 1, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.max_init_gap; }),
+                 [](VoConfig& c) -> int& { return c.start.max_init_gap; }),
       Value<int>("init.min_common_tracks", "point tracks seen in both views of a start", 5, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.two_view.min_common_tracks; }),
+                 [](VoConfig& c) -> int& { return c.start.two_view.min_common_tracks; }),
       Value<int>("init.min_inliers", "essential-matrix inliers of a start", 5, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.two_view.min_inliers; }),
+                 [](VoConfig& c) -> int& { return c.start.two_view.min_inliers; }),
       Value<double>("init.min_parallax_px", "rotation-compensated parallax of a start [px]", 0.0,
-                    kInf, [](VoConfig& c) -> double& { return c.two_view.min_parallax_px; }),
+                    kInf, [](VoConfig& c) -> double& { return c.start.two_view.min_parallax_px; }),
       Value<bool>("init.widest_pair", "start on the widest pair that passes, not the first", false,
-                  true, [](VoConfig& c) -> bool& { return c.widest_init_pair; }),
+                  true, [](VoConfig& c) -> bool& { return c.start.widest_init_pair; }),
       Value<bool>("init.multi_view", "frames between the two views as keyframes of the start",
-                  false, true, [](VoConfig& c) -> bool& { return c.multi_view_start; }),
+                  false, true, [](VoConfig& c) -> bool& { return c.start.multi_view_start; }),
       Value<double>("init.max_chi2_z",
                     "accept a start whose chi-square (chi2 - dof) / sqrt(2 dof) is at most this",
-                    -kInf, kInf, [](VoConfig& c) -> double& { return c.max_init_chi2_z; }),
+                    -kInf, kInf, [](VoConfig& c) -> double& { return c.start.max_init_chi2_z; }),
       Value<int>("init.max_tries", "starts tried from one first view before the best is taken", 1,
-                 kMaxInt, [](VoConfig& c) -> int& { return c.max_init_tries; }),
+                 kMaxInt, [](VoConfig& c) -> int& { return c.start.max_init_tries; }),
       Value<int>("points.max_tracks", "live point tracks kept", 1, kMaxInt,
                  [](VoConfig& c) -> int& { return c.frontend.points.target_count; }),
       Value<double>("points.min_distance_px", "between point tracks [px]", 0.0, kInf,
@@ -152,16 +152,17 @@ void Flatten(const YAML::Node& node, const std::string& prefix,
 
 VoConfig FeaturesVoConfig() {
   VoConfig c;
-  c.two_view.min_common_tracks = 8;  // the scarce-point scenes have about 10 point tracks a frame
-  c.two_view.min_inliers = 8;
+  c.start.two_view.min_common_tracks =
+      8;  // the scarce-point scenes have about 10 point tracks a frame
+  c.start.two_view.min_inliers = 8;
   return c;
 }
 
 VoConfig ImageVoConfig() {
   VoConfig c;
-  c.widest_init_pair = false;  // the start as measured on the KITTI clip: the first pair that
-  c.multi_view_start = false;  // passes, two views
-  c.max_init_tries = 1;
+  c.start.widest_init_pair = false;  // the start as measured on the KITTI clip: the first pair that
+  c.start.multi_view_start = false;  // passes, two views
+  c.start.max_init_tries = 1;
   c.window.line_triangulation.min_plane_angle_deg = 10.0;
   c.window.prior_blocks = Prior::kPoses;
   c.window.keyframe_parallax_px = 20.0;

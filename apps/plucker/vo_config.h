@@ -7,26 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "plucker/vision/image_frontend.h"
-#include "plucker/window/sliding_window_estimator.h"
-#include "plucker/window/two_view_initialization.h"
+#include "plucker/odometry/monocular_odometry.h"
 
 namespace plucker {
 namespace app {
 
-struct VoConfig {
-  window::SlidingWindowOptions window;
-  vision::ImageFrontendOptions frontend;
-  window::TwoViewOptions two_view;  // the two-view test of a start's pair
-  int max_init_gap = 30;            // frames searched for the second view of a two-view start
-  bool widest_init_pair = true;     // from a first view, the widest second view that passes first
-  bool multi_view_start = true;     // the frames between the two views join the start's solve
-  // A start is accepted when its solve passes the chi-square test: (chi2 - dof) / sqrt(2 dof) of
-  // its whitened residuals at most this (2.33: 1 % of the starts that fit at the noise level
-  // refused); after max_init_tries pairs of one first view, the one with the smallest.
-  double max_init_chi2_z = 2.33;
-  int max_init_tries = 30;
-};
+// The options of plucker vo are the pipeline's (odometry/monocular_odometry.h).
+using VoConfig = odometry::MonocularOdometryOptions;
 
 // The defaults for a features folder (the library's, new lines at 5 deg) and for images: new
 // lines at 10 deg, a poses-only prior, 200 point tracks 20 px apart, the 60 longest segments

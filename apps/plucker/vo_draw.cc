@@ -1,6 +1,12 @@
 #include "vo_draw.h"
 
+#include <cstdio>
+
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "plucker/io/image_folder.h"
+#include "plucker/io/io_error.h"
 
 #include "plucker/geometry/line_projection.h"
 
@@ -40,6 +46,24 @@ cv::Mat DrawVoFrame(const cv::Mat& gray, const PinholeIntrinsics& K,
                cv::LINE_AA);
   }
   return canvas;
+}
+
+void WriteVoOverlay(const std::string& dir, const std::string& image,
+                    const vision::Undistorter* undistorter, const PinholeIntrinsics& K,
+                    const window::FrameInput& frame, int i, const SE3d& T_w_c,
+                    const window::SlidingWindowEstimator& map) {
+  cv::Mat gray;
+  try {
+    gray = io::ReadGrayImage(image);
+  } catch (const io::IoError&) {
+    return;  // skipped image: already warned about
+  }
+  if (undistorter) gray = undistorter->Undistort(gray);
+  const cv::Mat canvas = DrawVoFrame(gray, K, frame, T_w_c, map.Points(), map.Lines());
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", i);
+  const std::string out = dir + "/" + name;
+  if (!cv::imwrite(out, canvas)) throw io::IoError(out, "cannot write the overlay image");
 }
 
 }  // namespace app

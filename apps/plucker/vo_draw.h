@@ -15,6 +15,7 @@
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/plucker_line.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/vision/undistort.h"
 #include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
@@ -25,6 +26,14 @@ cv::Mat DrawVoFrame(const cv::Mat& gray, const PinholeIntrinsics& K,
                     const window::FrameInput& frame, const SE3d& T_w_c,
                     const std::map<int, Eigen::Vector3d>& points_w,
                     const std::map<int, Line6d>& lines_w);
+
+// Writes DIR/%06d.png (frame i) of the image file undistorted (when `undistorter`), with the
+// map's landmarks. An unreadable image is skipped (already warned about); throws io::IoError when
+// the PNG cannot be written.
+void WriteVoOverlay(const std::string& dir, const std::string& image,
+                    const vision::Undistorter* undistorter, const PinholeIntrinsics& K,
+                    const window::FrameInput& frame, int i, const SE3d& T_w_c,
+                    const window::SlidingWindowEstimator& map);
 
 }  // namespace app
 }  // namespace plucker

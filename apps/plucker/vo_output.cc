@@ -1,0 +1,193 @@
+#include "vo_output.h"
+
+#include <algorithm>
+#include <ctime>
+#include <iomanip>
+#include <iostream>
+
+#include "plucker/io/io_error.h"
+#include "plucker/io/trajectory_io.h"
+
+namespace plucker {
+namespace app {
+namespace {
+
+const char* kVoStageNames[kNumVoStages] = {"read",  "points",          "detection",
+                                           "lines", "tracking",        "triangulation",
+                                           "solve", "marginalization", "other"};
+
+nlohmann::json WindowJson(const window::FrameResult& r) {
+  return {{"keyframe", r.keyframe},
+          {"tracked_points", r.tracked_points},
+          {"tracked_lines", r.tracked_lines},
+          {"pnp_fallback", r.pnp_fallback},
+          {"new_points", r.new_points},
+          {"new_lines", r.new_lines},
+          {"window_points", r.window_points},
+          {"window_lines", r.window_lines},
+          {"window_keyframes", r.window_keyframes},
+          {"parallax_px", r.parallax_px},
+          {"tracking_iterations", r.tracking_iterations},
+          {"window_iterations", r.window_iterations},
+          {"initial_cost", r.initial_cost},
+          {"final_cost", r.final_cost},
+          {"residuals", r.residuals},
+          {"culled_observations", r.culled_observations},
+          {"marginalized_keyframes", r.marginalized_keyframes},
+          {"marginalized_landmarks", r.marginalized_landmarks},
+          {"dropped_point_observations", r.dropped_point_observations},
+          {"dropped_line_observations", r.dropped_line_observations},
+          {"held_line_observations", r.held_line_observations},
+          {"dropped_retained_line_observations", r.dropped_retained_line_observations},
+          {"retained_poses", r.retained_poses},
+          {"prior_lines", r.prior_lines},
+          {"prior_rank", r.prior_rank},
+          {"marginalization_failed", r.marginalization_failed}};
+}
+
+nlohmann::json MapJson(const odometry::MonocularMap& m) {
+  return {{"frames", {m.first, m.second}},
+          {"keyframes", m.keyframes},
+          {"after_lost_frame", m.after_lost_frame},
+          {"scale", m.chained_baseline ? "chained" : "unit_baseline"},
+          {"baseline", m.chained_baseline.value_or(1.0)},
+          {"points", m.points},
+          {"lines", m.lines},
+          {"tries", m.tries},
+          {"chi2_z", m.chi2_z}};
+}
+
+double Quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+}  // namespace
+
+void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
+                 const VoConfig& config, const VoRunLog& log) {
+  const std::vector<odometry::MonocularFrameRecord>& records = vo.Trajectory();
+  const int n = static_cast<int>(records.size());
+  nlohmann::json list = nlohmann::json::array();
+  double stage_total[kNumVoStages] = {};
+  double init_ms = log.finish_ms;
+  std::vector<double> frame_ms;
+  for (int i = 0; i < n; ++i) {
+    const odometry::MonocularFrameRecord& r = records[i];
+    const VoFrameLog& f = log.frames[i];
+    nlohmann::json j = r.window ? WindowJson(*r.window) : nlohmann::json::object();
+    if (!f.frontend.is_null()) j["frontend"] = f.frontend;
+    j["frame"] = i;
+    j["time"] = r.time;
+    j["status"] = odometry::ToString(r.source);
+    j["keyframe"] = r.keyframe;
+    j["online"] = {{"status", odometry::ToString(f.online)}, {"has_pose", f.online_pose}};
+    double total = 0.0;
+    for (int s = 0; s < kNumVoStages; ++s) {
+      j["ms"][kVoStageNames[s]] = f.ms[s];
+      stage_total[s] += f.ms[s];
+      total += f.ms[s];
+    }
+    j["ms"]["total"] = total;
+    if (!f.frontend.is_null())  // the image's own stages, where they were before (kept)
+      for (int s = kRead; s <= kLines; ++s) j["frontend"]["ms"][kVoStageNames[s]] = f.ms[s];
+    frame_ms.push_back(total);
+    if (f.online != odometry::MonocularStatus::kTracking &&
+        f.online != odometry::MonocularStatus::kLost)
+      init_ms += f.ms[kOther];
+    list.push_back(j);
+  }
+  const odometry::MonocularSummary& sum = vo.Summary();
+  const int wf = sum.window_frames;
+  double window_ms = 0.0;
+  nlohmann::json stages = nlohmann::json::object(), pipeline = nlohmann::json::object();
+  for (int s = kTracking; s <= kMargin; ++s) {
+    window_ms += stage_total[s];
+    stages[kVoStageNames[s]] = wf > 0 ? stage_total[s] / wf : 0.0;
+  }
+  double cpu_ms = log.finish_ms;
+  for (int s = 0; s < kNumVoStages; ++s) {
+    pipeline[kVoStageNames[s]] = n > 0 ? stage_total[s] / n : 0.0;
+    cpu_ms += stage_total[s];
+  }
+  nlohmann::json frontend = nlohmann::json::object();
+  for (int s = kPoints; s <= kLines; ++s)
+    frontend[kVoStageNames[s]] = n > 0 ? stage_total[s] / n : 0.0;
+  nlohmann::json maps = nlohmann::json::array();
+  for (const odometry::MonocularMap& m : vo.Maps()) maps.push_back(MapJson(m));
+  const window::SlidingWindowOptions& w = config.window;
+  nlohmann::json out;
+  out["frames"] = list;
+  out["summary"] = {
+      {"frames", n},
+      {"initialization_frames", maps.empty() ? nlohmann::json() : maps.front()["frames"]},
+      {"maps", maps},
+      {"reinitializations", static_cast<int>(maps.size()) - 1},
+      {"keyframes", sum.keyframes},
+      {"lost_frames", sum.lost_frames},
+      {"pnp_recoveries", sum.pnp_recoveries},
+      {"marginalized_keyframes", sum.marginalized_keyframes},
+      {"failed_marginalizations", sum.failed_marginalizations},
+      {"use_lines", w.use_lines},
+      {"keep_marginalized_lines", w.keep_marginalized_lines},
+      {"retain_line_observer_poses", w.retain_line_observer_poses},
+      {"max_retained_poses", w.max_retained_poses},
+      {"retained_overflow_into_prior", w.retained_overflow_into_prior},
+      {"prior_on_poses_only", w.prior_blocks == window::SlidingWindowOptions::PriorBlocks::kPoses},
+      {"point_stride", log.point_stride},
+      {"read_ms", log.read_ms},
+      {"frontend_mean_ms", frontend},
+      {"skipped_images", log.skipped_images},
+      {"initialization_ms", init_ms},
+      {"mean_frame_ms", wf > 0 ? window_ms / wf : 0.0},
+      {"mean_stage_ms", stages},
+      {"total_wall_ms", log.total_wall_ms},
+      {"frames_per_second_cpu", window_ms > 0 ? 1e3 * wf / window_ms : 0.0},
+      {"pipeline_mean_stage_ms", pipeline},
+      {"pipeline_frame_ms_p50", Quantile(frame_ms, 0.5)},
+      {"pipeline_frame_ms_p95", Quantile(frame_ms, 0.95)},
+      {"pipeline_frame_ms_max", Quantile(frame_ms, 1.0)},
+      {"frames_per_second_cpu_with_frontend", cpu_ms > 0 ? 1e3 * n / cpu_ms : 0.0},
+      {"process_cpu_ms", 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC}};
+  io::WriteFileAtomically(path, out.dump(1) + "\n");
+}
+
+void WriteVoOutputs(const VoOutputs& o, const odometry::MonocularOdometry& vo,
+                    const VoConfig& config, const std::vector<std::optional<SE3d>>& online,
+                    const VoRunLog& log) {
+  if (vo.Maps().empty()) {
+    throw io::IoError(o.source, "cannot initialise (" + vo.StartFailure() +
+                                    "): too few point tracks with parallax");
+  }
+  if (!vo.RestartFailure().empty()) {
+    std::cerr << "plucker vo: warning: cannot re-initialise after frame " << vo.RestartFailedAfter()
+              << " (" << vo.RestartFailure() << "); the remaining frames keep the last pose\n";
+  }
+  std::vector<SE3d> poses;
+  for (const odometry::MonocularFrameRecord& r : vo.Trajectory()) poses.push_back(r.T_w_c);
+  io::WriteKittiPoses(o.out, poses);
+  if (!o.out_online.empty()) io::WriteKittiPosesWithGaps(o.out_online, online);
+  if (!o.json.empty()) WriteVoJson(o.json, vo, config, log);
+  const odometry::MonocularSummary& s = vo.Summary();
+  const std::size_t n = log.frames.size();
+  if (!o.quiet) {
+    double cpu = log.finish_ms;
+    for (const VoFrameLog& f : log.frames)
+      for (double ms : f.ms) cpu += ms;
+    std::cerr << "plucker vo: " << n << " frames (initialised on frames " << vo.Maps()[0].first
+              << " and " << vo.Maps()[0].second << "), " << s.keyframes << " keyframes, "
+              << s.lost_frames << " lost, " << vo.Maps().size() - 1 << " re-initialisations, "
+              << std::fixed << std::setprecision(2) << cpu / n
+              << " ms CPU per frame (front end included); wrote " << o.out << "\n";
+  }
+  if (s.lost_frames > 0) {
+    std::cerr << "plucker vo: warning: " << s.lost_frames
+              << " frames could not be tracked (their pose is the constant-velocity prediction, or "
+                 "the previous pose)\n";
+  }
+}
+
+}  // namespace app
+}  // namespace plucker
