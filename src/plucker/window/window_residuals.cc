@@ -42,7 +42,9 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
       if (it == points.end()) continue;
       ResidualSpec r;
       r.cost.reset(PointCost(f->input.points[i].uv));
-      r.blocks = {f->pose, it->second->p};
+      // Blocks from a temporary vector throughout: GCC 12 warns (-Wnonnull, a false positive) on
+      // assigning an initializer list to the fresh vector here.
+      r.blocks = std::vector<double*>{f->pose, it->second->p};
       r.frame = f;
       r.observation = static_cast<int>(i);
       out->push_back(std::move(r));
@@ -56,7 +58,7 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
       const auto& s = f->input.segments[i];
       ResidualSpec r;
       r.cost.reset(LineCost(s, it->second->anchor));
-      r.blocks = {f->pose, it->second->block};
+      r.blocks = std::vector<double*>{f->pose, it->second->block};
       r.frame = f;
       r.observation = static_cast<int>(i);
       r.is_point = false;
@@ -68,7 +70,7 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
     r.cost.reset(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
         new PosePriorResidual{*f->input.T_w_c_prior, f->input.prior_sqrt_information}));
     r.robust = false;
-    r.blocks = {f->pose};
+    r.blocks = std::vector<double*>{f->pose};
     out->push_back(std::move(r));
   }
 }
@@ -85,7 +87,7 @@ void SlidingWindowEstimator::Impl::AppendRetainedResiduals(std::vector<ResidualS
       if (it == lines.end() || (only && !only->count(seg.line_id))) continue;
       ResidualSpec r;
       r.cost.reset(LineCost(seg, it->second->anchor));
-      r.blocks = {rp->pose, it->second->block};
+      r.blocks = std::vector<double*>{rp->pose, it->second->block};
       r.is_point = false;
       out->push_back(std::move(r));
     }
@@ -124,7 +126,7 @@ int SlidingWindowEstimator::Impl::BuildProblem(ceres::Problem* problem, bool hol
     ResidualSpec r;
     r.cost.reset(extrinsic_prior->CreateCostFunction());
     r.robust = false;
-    r.blocks = {extrinsic};
+    r.blocks = std::vector<double*>{extrinsic};
     residuals.push_back(std::move(r));
   }
   int n = 0;
