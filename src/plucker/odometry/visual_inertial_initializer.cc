@@ -240,36 +240,20 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
         if (end) phase = Phase::kFailed;
         return false;
       }
-      const auto next_start = [&] {
+      // The pair (i, j) (j up to 30 frames later), else the next start frame.
+      const bool pair_possible = Covered(imu, frames[i].time) && j <= i + 30;
+      if (pair_possible && j >= n && !end) return false;  // wait for frame j
+      if (!pair_possible || j >= n || !Covered(imu, frames[j].time)) {
         ++i;
         j = i + 1;
-      };
-      if (!Covered(imu, frames[i].time) || j > i + 30) {
-        next_start();
-        continue;
+      } else if (!TryPair(frames, imu)) {
+        ++j;
       }
-      if (j >= n) {
-        if (!end) return false;
-        next_start();
-        continue;
-      }
-      if (!Covered(imu, frames[j].time)) {
-        next_start();
-        continue;
-      }
-      if (!TryPair(frames, imu)) ++j;
       continue;
     }
-    if (static_cast<int>(keyframes.size()) > o.init_max_keyframes) {
-      Restart();
-      continue;
-    }
-    if (f >= n) {
-      if (!end) return false;
-      Restart();
-      continue;
-    }
-    if (!Covered(imu, frames[f].time)) {
+    const bool running = static_cast<int>(keyframes.size()) <= o.init_max_keyframes;
+    if (running && f >= n && !end) return false;  // wait for frame f
+    if (!running || f >= n || !Covered(imu, frames[f].time)) {
       Restart();
       continue;
     }
