@@ -18,9 +18,11 @@ class VioReport {
  public:
   // The front end's record of frame `frame` (EuRoC): image, stage times, observations.
   void AddFrontend(int frame, nlohmann::json info);
-  // A call's result; window_ms: its window stage times and cpu_ms its CPU time.
+  // A call's result; window_ms: its window stage times, cpu_ms its CPU time, of which
+  // frontend_ms in reading the image and the front end's stages.
   void Add(const odometry::VioFrameResult& r,
-           const std::array<double, window::kNumWindowStages>& window_ms, double cpu_ms);
+           const std::array<double, window::kNumWindowStages>& window_ms, double cpu_ms,
+           double frontend_ms = 0.0);
   // The JSON of the run (frames, initialisation, summary).
   nlohmann::json Json(const VioInput& in, const odometry::VisualInertialOdometry& vio,
                       double read_ms, double total_wall_ms) const;
