@@ -6,15 +6,16 @@
 //               a vision-only window from a two-view start checked against the gyroscope,
 //               aligned with the preintegrated IMU (scale, gravity, velocities, gyro bias) at
 //               each new keyframe; then the window starts on the initialisation's keyframes and
-//               the frames buffered since the initialisation's first are run through it;
+//               the frames buffered after its last one are run through it (catch-up);
 //   track       window AddFrame: IMU prediction, visual tracking, keyframe decision,
 //               triangulation, solve with the IMU factors, marginalization.
 //
-// Causality: the result returned for frame k uses only the IMU samples and frames given before
-// it returns (the samples up to the frame's time must have been given: a driver waits for the
+// Causality: the result returned for frame k uses only the IMU samples and frames given up to
+// that call (the samples up to the frame's time must have been given: a driver waits for the
 // IMU to reach the image's timestamp). Before the start the result has no pose (status
-// kInitializing); frames are buffered until the initialisation decides (memory bounded by the
-// initialisation's span and then by the window, not by the sequence).
+// kInitializing); the frames' observations are buffered until the initialisation decides, then
+// released (memory bounded by the initialisation's span and the window; what grows with the
+// sequence is one small record per frame, RefinedTrajectory(), and the window's IMU samples).
 //
 // Two trajectories: the per-frame (online) poses of the results, and RefinedTrajectory(): every
 // frame with a pose, the frames before the window's start backfilled once it starts (localized
