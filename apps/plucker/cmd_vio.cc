@@ -68,7 +68,11 @@ bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* v
   for (int s = 0; s < window::kNumWindowStages; ++s) stages[s] = window_ms.ms(s);
   report->Add(r, stages, ThreadCpuMs() - t0, frontend_total);
   if (r.status == odometry::VioStatus::kFailed) throw io::IoError(in.source, r.message);
-  online->push_back({r.frame, r.time, odometry::VioFrameKind::kWindow, r.status, r.T_w_b});
+  odometry::VioFrameRecord pose;  // the online pose of the frame (none before the start)
+  pose.frame = r.frame;
+  pose.time = r.time;
+  pose.T_w_b = r.T_w_b;
+  online->push_back(pose);
   return true;
 }
 
