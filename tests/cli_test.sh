@@ -440,8 +440,12 @@ fi
 expect sim-camera-vio 0 "" -- "$PLUCKER" sim camera --out "$T/vcam" --scene room --frames 40
 expect vio 0 "40 frames, dynamic initialisation" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio.tum" --json "$T/vio.json" --no-lines \
-  --point-stride 2 --plot "$T/vio.svg"
+  --point-stride 2 --plot "$T/vio.svg" --out-online "$T/vio_online.tum"
 expect vio-rows 0 "^40$" -- bash -c "grep -vc '^#' '$T/vio.tum'"
+expect vio-refined-comment 0 "^# refined: " -- sed -n 2p "$T/vio.tum"
+expect vio-online-comment 0 "^# online: " -- sed -n 2p "$T/vio_online.tum"
+# The online file holds the frames from the dynamic start on (fewer than the refined 40).
+expect vio-online-rows 0 "^([1-9]|[1-3][0-9])$" -- bash -c "grep -vc '^#' '$T/vio_online.tum'"
 expect vio-json 0 '"method": "dynamic"' -- cat "$T/vio.json"
 expect vio-plot 0 "<svg" -- head -c 400 "$T/vio.svg"
 expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"

@@ -1,46 +1,42 @@
 // The inputs of `plucker vio`: a features folder (the sim format, docs/sim-format.md) or a EuRoC
-// folder (cam0 images undistorted and fed to the image front end, imu0), as the window's per-frame
-// input with the sensors it needs. The front end's stage times are measured here (the libraries
-// read no clock).
+// folder (the cam0 image list, its calibration, imu0), as the sensors of the odometry and what
+// a driver would deliver: IMU samples, and frames (features) or image files (EuRoC) in time
+// order. The images are read one at a time by the loop of cmd_vio.cc.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/io/euroc_dataset.h"
+#include "plucker/odometry/visual_inertial_odometry.h"
 #include "plucker/sensor/imu.h"
-#include "plucker/vision/image_frontend.h"
-#include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
 namespace app {
 
 struct VioInput {
-  std::string source;   // the folder, for messages
-  PinholeIntrinsics K;  // of the (undistorted) observations
-  SE3d T_b_c;
-  sensor::ImuModel imu_model;
-  double gravity_magnitude = 9.81;
-  double pixel_sigma = 1.0;
-  std::vector<window::FrameInput> frames;  // increasing times (IMU clock)
+  std::string source;  // the folder, for messages
+  odometry::VisualInertialCalibration calibration;
   std::vector<sensor::ImuSample> imu;
-  std::vector<nlohmann::json> info;           // per frame, from the front end (empty for features)
-  std::vector<std::string> warnings;          // skipped frames, IMU gaps, dropped images
-  nlohmann::json frontend_ms;                 // mean per frame by stage (EuRoC)
-  double frontend_cpu_ms = 0.0;               // total
-  std::optional<std::vector<SE3d>> gt_T_w_b;  // per frame, for the plot only
+  std::vector<window::FrameInput> frames;  // features folder: increasing times (IMU clock)
+  std::vector<io::EurocFrame> images;      // EuRoC: increasing times (IMU clock)
+  std::vector<std::string> warnings;       // skipped frames, IMU gaps, dropped images
+  // Ground truth for the plot: per frame (features), or the EuRoC states (nearest in time).
+  std::optional<std::vector<SE3d>> gt_T_w_b;
+  std::vector<sensor::BodyState> gt_states;
 };
 
 // Features folder; point tracks kept when id % point_stride == 0. Throws io::IoError.
 VioInput ReadVioFeatures(const std::string& dir, int point_stride);
 
-// EuRoC folder (with mav0/ or mav0 itself): frames the IMU does not cover, repeated timestamps
-// and missing or unreadable images are skipped and named in `warnings`. Throws io::IoError.
-VioInput ReadVioEuroc(const std::string& dir, const vision::ImageFrontendOptions& frontend,
-                      bool quiet);
+// EuRoC folder (with mav0/ or mav0 itself): frames the IMU does not cover and repeated
+// timestamps are skipped and named in `warnings`. Throws io::IoError.
+VioInput ReadVioEuroc(const std::string& dir);
+
+// The ground truth nearest each time (increasing), from gt_states (empty: none).
+std::vector<SE3d> NearestGroundTruth(const VioInput& in, const std::vector<double>& times);
 
 }  // namespace app
 }  // namespace plucker

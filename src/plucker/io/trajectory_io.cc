@@ -188,12 +188,13 @@ void WriteKittiPoses(const std::string& path, const std::vector<SE3d>& poses) {
 }
 
 void WriteTumTrajectory(const std::string& path, const std::vector<double>& times,
-                        const std::vector<SE3d>& poses) {
+                        const std::vector<SE3d>& poses, const std::vector<std::string>& comments) {
   if (times.size() != poses.size()) {
     throw IoError(path, "cannot write a TUM trajectory with " + std::to_string(times.size()) +
                             " times and " + std::to_string(poses.size()) + " poses");
   }
   std::string out = "# t tx ty tz qx qy qz qw\n";
+  for (const std::string& c : comments) out += "# " + c + "\n";
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const Eigen::Vector3d& t = poses[i].translation();
     const Eigen::Quaterniond& q = poses[i].rotation();

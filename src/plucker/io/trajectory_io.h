@@ -54,10 +54,12 @@ Trajectory ParseTrajectory(const std::string& text, const std::string& name,
 // atomically. Throws IoError.
 void WriteKittiPoses(const std::string& path, const std::vector<SE3d>& poses);
 
-// Writes a TUM trajectory (`t tx ty tz qx qy qz qw`, shortest exact text), atomically. Throws
-// IoError (also if the sizes differ).
+// Writes a TUM trajectory (`t tx ty tz qx qy qz qw`, shortest exact text), atomically; each of
+// `comments` is a line "# ..." after the column header (what the file holds). Throws IoError
+// (also if the sizes differ).
 void WriteTumTrajectory(const std::string& path, const std::vector<double>& times,
-                        const std::vector<SE3d>& poses);
+                        const std::vector<SE3d>& poses,
+                        const std::vector<std::string>& comments = {});
 
 // A TUM trajectory on a recording's own clock: each time is `origin_ns` (integer nanoseconds, e.g.
 // EuRoC's first IMU timestamp) plus times[i] seconds, rounded to the nanosecond and written as

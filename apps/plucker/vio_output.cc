@@ -1,0 +1,250 @@
+#include "vio_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "plucker/eval/ate.h"
+#include "plucker/eval/plot.h"
+#include "plucker/io/io_error.h"
+#include "plucker/io/trajectory_io.h"
+
+namespace plucker {
+namespace app {
+namespace {
+
+const char* kStageNames[window::kNumWindowStages] = {"tracking", "triangulation", "solve",
+                                                     "marginalization"};
+
+nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json StateJson(const window::InertialState& s) {
+  return {{"v_w", Vec(s.v_w)}, {"gyro_bias", Vec(s.bias.gyro)}, {"accel_bias", Vec(s.bias.accel)}};
+}
+
+// [tx, ty, tz, qx, qy, qz, qw]
+nlohmann::json PoseJson(const SE3d& T) {
+  const Eigen::Quaterniond& q = T.rotation();
+  const Eigen::Vector3d& t = T.translation();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+double AngleDeg(const SE3d& a, const SE3d& b) {
+  return LogSO3<double>(a.rotation().conjugate() * b.rotation()).norm() * 180.0 / M_PI;
+}
+
+nlohmann::json WindowJson(const window::FrameResult& r) {
+  return {{"keyframe", r.keyframe},
+          {"tracked_points", r.tracked_points},
+          {"tracked_lines", r.tracked_lines},
+          {"new_points", r.new_points},
+          {"new_lines", r.new_lines},
+          {"window_points", r.window_points},
+          {"window_lines", r.window_lines},
+          {"imu_chi2", r.imu_chi2},
+          {"tracking_iterations", r.tracking_iterations},
+          {"window_iterations", r.window_iterations},
+          {"marginalized_keyframes", r.marginalized_keyframes},
+          {"marginalization_failed", r.marginalization_failed},
+          {"state", StateJson(r.state)}};
+}
+
+nlohmann::json EventJson(const odometry::VioInitEvent& e) {
+  nlohmann::json j = {{"event", e.event}};
+  if (e.frame >= 0) j["frame"] = e.frame;
+  if (e.event == "static_test" || e.event == "alignment") {
+    j["status"] = e.status;
+    j["message"] = e.message;
+  }
+  if (!e.reason.empty()) j["reason"] = e.reason;
+  if (e.event == "alignment") {
+    j["keyframes"] = e.keyframes;
+    j["scale"] = e.scale;
+  }
+  if (e.still) {
+    j["still_seconds"] = e.still_seconds;
+    j["gyro_bias"] = Vec(e.gyro_bias);
+    j["up_b"] = Vec(e.up_b);
+  }
+  return j;
+}
+
+}  // namespace
+
+void VioReport::AddFrontend(int frame, nlohmann::json info) {
+  if (static_cast<int>(frontend_.size()) <= frame) frontend_.resize(frame + 1);
+  frontend_[frame] = std::move(info);
+}
+
+void VioReport::Add(const odometry::VioFrameResult& r,
+                    const std::array<double, window::kNumWindowStages>& window_ms,
+                    double cpu_ms_call, double frontend_ms_call) {
+  ++frames;
+  cpu_ms += cpu_ms_call;
+  frontend_ms += frontend_ms_call;
+  const double odometry_ms = cpu_ms_call - frontend_ms_call;
+  const bool own = r.settled.size() == 1 && r.window;  // the window ran this frame alone
+  if (own) {
+    frame_ms += odometry_ms;
+    ++window_frames_;
+    for (int s = 0; s < window::kNumWindowStages; ++s) stage_total_[s] += window_ms[s];
+  } else if (r.settled.size() != 1) {
+    init_ms += odometry_ms;
+  }
+  for (const odometry::VioFrameRecord& rec : r.settled) {
+    if (static_cast<int>(per_frame_.size()) <= rec.frame) {
+      per_frame_.resize(rec.frame + 1, nlohmann::json::object());
+      times_.resize(rec.frame + 1);
+    }
+    nlohmann::json& f = per_frame_[rec.frame];
+    times_[rec.frame] = rec.time;
+    f = nlohmann::json::object();
+    if (rec.keyframe) f["keyframe"] = true;
+    if (rec.status == odometry::VioStatus::kSkippedNoImu) f["reason"] = rec.skip_reason;
+    skipped += rec.status == odometry::VioStatus::kSkippedNoImu ||
+               rec.status == odometry::VioStatus::kSkippedNonFinite;
+    f["status"] = odometry::ToString(rec);
+    if (!rec.window) continue;
+    const window::FrameResult& w = *rec.window;
+    const nlohmann::json stats = WindowJson(w);
+    for (auto& kv : stats.items()) f[kv.key()] = kv.value();
+    keyframes += w.keyframe;
+    imu_only += w.imu_only && !w.stationary;
+    stationary += w.stationary;
+    marginalized_ += w.marginalized_keyframes;
+    failed_marginalizations_ += w.marginalization_failed;
+    chi2_total_ += w.imu_chi2;
+    window_points = w.window_points;
+    window_lines = w.window_lines;
+    if (own) {
+      nlohmann::json times = {{"total", odometry_ms}};
+      for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = window_ms[s];
+      f["ms"] = times;
+    }
+  }
+}
+
+nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertialOdometry& vio,
+                               double read_ms, double total_wall_ms) const {
+  nlohmann::json list = nlohmann::json::array();
+  nlohmann::json frontend_mean = nlohmann::json::object();
+  for (std::size_t i = 0; i < per_frame_.size(); ++i) {
+    nlohmann::json f = per_frame_[i];
+    if (i < frontend_.size() && !frontend_[i].is_null()) {
+      f["frontend"] = frontend_[i];
+      for (auto& kv : frontend_[i]["ms"].items())
+        frontend_mean[kv.key()] = frontend_mean.value(kv.key(), 0.0) +
+                                  kv.value().get<double>() / static_cast<double>(frames);
+    }
+    f["frame"] = i;
+    f["time"] = times_[i];
+    list.push_back(f);
+  }
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < window::kNumWindowStages; ++s)
+    stages[kStageNames[s]] = window_frames_ > 0 ? stage_total_[s] / window_frames_ : 0.0;
+  const odometry::VioInitialization& init = vio.initialization();
+  nlohmann::json events = nlohmann::json::array();
+  for (const odometry::VioInitEvent& e : init.events) events.push_back(EventJson(e));
+  nlohmann::json out;
+  out["frames"] = list;
+  out["initialization"] = {{"method", init.method},
+                           {"frames", {init.first, init.second}},
+                           {"events", events},
+                           {"state_first", StateJson(init.state_first)}};
+  const double duration = times_.empty() ? 0.0 : times_.back() - times_.front();
+  const int poses = static_cast<int>(
+      std::count_if(vio.RefinedTrajectory().begin(), vio.RefinedTrajectory().end(),
+                    [](const odometry::VioFrameRecord& r) { return r.T_w_b.has_value(); }));
+  out["summary"] = {
+      {"frames", frames},
+      {"poses_written", poses},
+      {"keyframes", keyframes},
+      {"imu_only_frames", imu_only},
+      {"stationary_frames", stationary},
+      {"skipped_frames", skipped},
+      {"marginalized_keyframes", marginalized_},
+      {"failed_marginalizations", failed_marginalizations_},
+      {"mean_imu_chi2_keyframes", keyframes > 2 ? chi2_total_ / (keyframes - 2) : 0.0},
+      {"read_ms", read_ms},
+      {"frontend_cpu_ms", frontend_ms},
+      {"frontend_mean_ms", frontend_mean},
+      {"warnings", in.warnings},
+      {"initialization_cpu_ms", init_ms},
+      {"mean_frame_ms", window_frames_ > 0 ? frame_ms / window_frames_ : 0.0},
+      {"mean_stage_ms", stages},
+      {"sequence_seconds", duration},
+      {"cpu_seconds", cpu_ms / 1e3},
+      {"times_real_time", cpu_ms > 0 ? 1e3 * duration / cpu_ms : 0.0},
+      {"frames_per_second_cpu", cpu_ms > 0 ? 1e3 * frames / cpu_ms : 0.0},
+      {"total_wall_ms", total_wall_ms}};
+  const SE3d& given = in.calibration.T_b_c;
+  const SE3d T = vio.ExtrinsicEstimate();
+  out["summary"]["extrinsic"] = {
+      {"estimated", extrinsic_estimated},
+      {"freed", vio.ExtrinsicFree()},
+      {"T_b_c_given", PoseJson(given)},
+      {"T_b_c", PoseJson(T)},
+      {"rotation_change_deg", AngleDeg(given, T)},
+      {"translation_change_m", (T.translation() - given.translation()).norm()}};
+  return out;
+}
+
+std::vector<int> WriteVioTrajectory(const std::string& path,
+                                    const std::vector<odometry::VioFrameRecord>& records,
+                                    bool online) {
+  std::vector<double> times;
+  std::vector<SE3d> poses;
+  std::vector<int> written;
+  for (const odometry::VioFrameRecord& r : records) {
+    if (!r.T_w_b) continue;
+    times.push_back(r.time);
+    poses.push_back(*r.T_w_b);
+    written.push_back(r.frame);
+  }
+  const std::string what =
+      online ? odometry::kOnlineTrajectoryNote : odometry::kRefinedTrajectoryNote;
+  io::WriteTumTrajectory(path, times, poses, {what});
+  return written;
+}
+
+void WriteVioPlot(const std::string& path, const VioInput& in,
+                  const std::vector<odometry::VioFrameRecord>& records) {
+  std::vector<SE3d> est, gt;
+  std::vector<double> times;
+  for (const odometry::VioFrameRecord& r : records) {
+    if (!r.T_w_b) continue;
+    est.push_back(*r.T_w_b);
+    times.push_back(r.time);
+    if (in.gt_T_w_b) gt.push_back((*in.gt_T_w_b)[r.frame]);
+  }
+  if (!in.gt_states.empty()) gt = NearestGroundTruth(in, times);
+  eval::TrajectoryPlot plot;
+  plot.subtitle = in.source;
+  if (!gt.empty()) {
+    const eval::AteResult ate = eval::ComputeAte(gt, est, {eval::AlignmentMode::kPositionYaw});
+    est = ate.aligned_estimate;
+    std::ostringstream title;
+    title << "plucker vio: ATE (position+yaw aligned) RMSE " << std::setprecision(3)
+          << ate.translation_m.rmse << " m over " << gt.size() << " poses";
+    plot.title = title.str();
+    for (const SE3d& T : gt) plot.positions_gt.push_back(T.translation());
+    eval::PlotSeries series;
+    series.label = "position error";
+    for (std::size_t i = 0; i < gt.size(); ++i)
+      series.points.emplace_back(times[i], ate.translation_errors[i]);
+    plot.error_series.push_back(series);
+    plot.error_title = "position error over time";
+    plot.error_x_label = "time [s]";
+    plot.error_y_label = "position error [m]";
+  } else {
+    plot.title = "plucker vio: body trajectory (no ground truth)";
+    plot.error_message = "no ground truth in the input";
+  }
+  for (const SE3d& T : est) plot.positions_est.push_back(T.translation());
+  io::WriteFileAtomically(path, eval::RenderTrajectoryPlotSvg(plot));
+}
+
+}  // namespace app
+}  // namespace plucker

@@ -1,0 +1,55 @@
+// The writers of `plucker vio` (docs/vio.md): the report of a run accumulated from the
+// odometry's per-frame results (JSON statistics and summary), the two TUM trajectories and
+// the plot.
+#pragma once
+
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "plucker/odometry/visual_inertial_odometry.h"
+#include "vio_input.h"
+
+namespace plucker {
+namespace app {
+
+class VioReport {
+ public:
+  // The front end's record of frame `frame` (EuRoC): image, stage times, observations.
+  void AddFrontend(int frame, nlohmann::json info);
+  // A call's result; window_ms: its window stage times, cpu_ms its CPU time, of which
+  // frontend_ms in reading the image and the front end's stages.
+  void Add(const odometry::VioFrameResult& r,
+           const std::array<double, window::kNumWindowStages>& window_ms, double cpu_ms,
+           double frontend_ms = 0.0);
+  // The JSON of the run (frames, initialisation, summary).
+  nlohmann::json Json(const VioInput& in, const odometry::VisualInertialOdometry& vio,
+                      double read_ms, double total_wall_ms) const;
+
+  int frames = 0, keyframes = 2, imu_only = 0, stationary = 0, skipped = 0;
+  double cpu_ms = 0.0, frontend_ms = 0.0, init_ms = 0.0, frame_ms = 0.0;
+  int window_points = 0, window_lines = 0;
+  bool extrinsic_estimated = false;
+
+ private:
+  std::vector<nlohmann::json> per_frame_;
+  std::vector<double> times_;
+  int marginalized_ = 0, failed_marginalizations_ = 0, window_frames_ = 0;
+  double chi2_total_ = 0.0;
+  std::array<double, window::kNumWindowStages> stage_total_{};
+  std::vector<nlohmann::json> frontend_;
+};
+
+// The refined trajectory (`--out`) or the online poses (`--out-online`) as TUM, with a comment
+// saying which; returns the frames written.
+std::vector<int> WriteVioTrajectory(const std::string& path,
+                                    const std::vector<odometry::VioFrameRecord>& records,
+                                    bool online);
+
+// Top view of the refined trajectory (against the ground truth when the input has it).
+void WriteVioPlot(const std::string& path, const VioInput& in,
+                  const std::vector<odometry::VioFrameRecord>& records);
+
+}  // namespace app
+}  // namespace plucker

@@ -1,0 +1,306 @@
+#include "plucker/odometry/visual_inertial_initializer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "plucker/factors/imu_preintegration.h"
+#include "plucker/inertial/initialization_choice.h"
+#include "plucker/inertial/visual_inertial_alignment.h"
+#include "plucker/window/two_view_initialization.h"
+
+namespace plucker {
+namespace odometry {
+namespace {
+
+bool Covered(const std::vector<sensor::ImuSample>& imu, double t) {
+  return !imu.empty() && imu.front().t <= t && imu.back().t >= t;
+}
+
+// The metric pose of frame f from the visual pose, the alignment and keyframe 0's body pose.
+SE3d AlignedBodyPose(const SE3d& T_vo_c0, const SE3d& T_vo_cf, double scale, const SE3d& T_w_b0,
+                     const SE3d& T_b_c) {
+  const SE3d rel = T_vo_c0.Inverse() * T_vo_cf;
+  const SE3d scaled(rel.rotation(), scale * rel.translation());
+  return T_w_b0 * T_b_c * scaled * T_b_c.Inverse();
+}
+
+// Whether the still test found the start of the motion (else the log ended while still).
+bool MotionFound(const inertial::StaticInitResult& r, double block_seconds) {
+  if (r.status == inertial::StaticInitStatus::kTooFewSamples) return false;
+  const long used = std::lround((r.still_end - r.still_begin) / block_seconds);
+  return r.blocks_still == 0 || used == r.blocks_still - 1;
+}
+
+}  // namespace
+
+std::optional<inertial::ImageMotionFlag> ImageMotion(const window::FrameInput& previous_frame,
+                                                     const window::FrameInput& frame,
+                                                     double still_px) {
+  std::map<int, Eigen::Vector2d> previous;
+  for (const auto& p : previous_frame.points) previous[p.point_id] = p.uv;
+  std::vector<double> d;
+  for (const auto& p : frame.points) {
+    const auto it = previous.find(p.point_id);
+    if (it != previous.end()) d.push_back((p.uv - it->second).norm());
+  }
+  if (d.size() < 5) return std::nullopt;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return inertial::ImageMotionFlag{frame.time, d[d.size() / 2] <= still_px};
+}
+
+struct VisualInertialInitializer::Impl {
+  enum class Phase { kStaticTest, kDynamic, kDone, kFailed };
+  VisualInertialOdometryOptions o;
+  VisualInertialCalibration calib;
+  Phase phase = Phase::kStaticTest;
+  VioStart start;
+  std::vector<VioInitEvent> events;
+  // The dynamic search: start frame i, next second frame j; a vision-only run from (i, j).
+  int i = 0, j = 1, f = 0;
+  std::unique_ptr<window::SlidingWindowEstimator> run;
+  std::vector<SE3d> T_vo;
+  std::vector<int> keyframes;
+
+  bool StaticTest(const std::vector<window::FrameInput>& frames,
+                  const std::vector<sensor::ImuSample>& imu,
+                  const std::vector<inertial::ImageMotionFlag>& flags, bool end);
+  bool StartStatic(const std::vector<window::FrameInput>& frames,
+                   const std::vector<sensor::ImuSample>& imu,
+                   const inertial::StaticInitResult& still);
+  bool Dynamic(const std::vector<window::FrameInput>& frames,
+               const std::vector<sensor::ImuSample>& imu, bool end);
+  bool TryPair(const std::vector<window::FrameInput>& frames,
+               const std::vector<sensor::ImuSample>& imu);
+  bool TryAlignment(const std::vector<window::FrameInput>& frames,
+                    const std::vector<sensor::ImuSample>& imu);
+  void Restart();
+};
+
+// The still test on the IMU up to the newest frame (every block it reads then holds all the
+// frames' flags that fall in it); at the end of the input on all of it.
+bool VisualInertialInitializer::Impl::StaticTest(
+    const std::vector<window::FrameInput>& frames, const std::vector<sensor::ImuSample>& imu,
+    const std::vector<inertial::ImageMotionFlag>& flags, bool end) {
+  inertial::StaticInitOptions so;
+  so.gravity_magnitude = calib.gravity_magnitude;
+  inertial::StaticInitResult still;
+  if (end) {
+    still = inertial::InitializeStatic(imu, so, frames.front().time, flags);
+  } else {
+    const double t_last = frames.back().time;
+    const auto upto =
+        std::upper_bound(imu.begin(), imu.end(), t_last,
+                         [](double t, const sensor::ImuSample& s) { return t < s.t; });
+    still = inertial::InitializeStatic(std::vector<sensor::ImuSample>(imu.begin(), upto), so,
+                                       frames.front().time, flags);
+    if (!MotionFound(still, so.block_seconds)) return false;  // wait: still so far
+  }
+  VioInitEvent e;
+  e.event = "static_test";
+  e.status = inertial::ToString(still.status);
+  e.message = still.message;
+  events.push_back(e);
+  phase = Phase::kDynamic;
+  if (still.success() && StartStatic(frames, imu, still)) {
+    events.back().still = true;
+    events.back().still_seconds = still.still_end - still.still_begin;
+    events.back().gyro_bias = still.bias.gyro;
+    events.back().up_b = still.up_b;
+    phase = Phase::kDone;
+    return true;
+  }
+  return false;
+}
+
+// Static: the still span at the start of the log; the window starts on its first two frames.
+bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::FrameInput>& frames,
+                                                  const std::vector<sensor::ImuSample>& imu,
+                                                  const inertial::StaticInitResult& still) {
+  const int n = static_cast<int>(frames.size());
+  int a = 0;
+  while (a < n && (frames[a].time < still.still_begin || !Covered(imu, frames[a].time))) ++a;
+  if (a + 1 >= n || !Covered(imu, frames[a + 1].time)) return false;
+  start.method = "static";
+  start.first = a;
+  start.second = a + 1;
+  window::InertialState st;
+  st.T_w_b = SE3d(still.R_w_b, Eigen::Vector3d::Zero());
+  st.bias = still.bias;
+  start.state_first = start.state_second = st;
+  start.T_w_b.assign(a + 2, std::nullopt);
+  start.T_w_b[a] = start.T_w_b[a + 1] = st.T_w_b;
+  return true;
+}
+
+// A two-view start (i, j) checked against the gyroscope, and the vision-only run from it.
+bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInput>& frames,
+                                              const std::vector<sensor::ImuSample>& imu) {
+  const double ti = frames[i].time, tj = frames[j].time;
+  const Eigen::Matrix3d R_bi_bj = PreintegrateSamples(imu, ti, tj, ImuBias(), calib.imu).DeltaR();
+  const Eigen::Matrix3d R_b_c = calib.T_b_c.RotationMatrix();
+  const Eigen::Matrix3d R_cj_ci = R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
+  window::TwoViewOptions two_view;
+  two_view.max_rotation_disagreement_deg =
+      o.init_max_rotation_disagreement_deg + o.init_gyro_bias_bound * (tj - ti) * 180.0 / M_PI;
+  const window::TwoViewResult tv = window::InitializeTwoView(calib.camera.K, frames[i].points,
+                                                             frames[j].points, two_view, R_cj_ci);
+  if (!tv.ok) return false;
+  window::SlidingWindowOptions vo = WindowOptions(o, calib);
+  vo.inertial.reset();
+  vo.max_keyframe_interval_s = o.max_keyframe_interval_s;  // short IMU spans for the alignment
+  vo.window_size = o.init_max_keyframes + 2;  // nothing is marginalized before the alignment
+  run = std::make_unique<window::SlidingWindowEstimator>(calib.camera.K, vo);
+  const window::InitializationResult init =
+      run->Initialize(frames[i], SE3d(), frames[j], tv.T_b_a.Inverse());
+  if (!init.ok) {
+    run.reset();
+    return false;
+  }
+  T_vo.assign(j + 1, SE3d());
+  T_vo[i] = init.T_w_a;
+  T_vo[j] = init.T_w_b;
+  keyframes = {i, j};
+  f = j + 1;
+  return true;
+}
+
+// At a new keyframe of the run: the choice, then the alignment.
+bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::FrameInput>& frames,
+                                                   const std::vector<sensor::ImuSample>& imu) {
+  inertial::AlignmentInput align;
+  align.T_b_c = calib.T_b_c;
+  const std::vector<SE3d> kf = run->KeyframePoses();
+  for (const SE3d& T : kf) align.T_c0_ck.push_back(kf.front().Inverse() * T);
+  for (std::size_t k = 0; k + 1 < keyframes.size(); ++k) {
+    align.preintegrations.push_back(PreintegrateSamples(
+        imu, frames[keyframes[k]].time, frames[keyframes[k + 1]].time, ImuBias(), calib.imu));
+  }
+  inertial::InitializationChoiceOptions choice_options;
+  choice_options.min_keyframes = o.init_min_keyframes;
+  choice_options.min_excitation = o.init_min_excitation;
+  inertial::StaticInitResult not_still;
+  not_still.status = inertial::StaticInitStatus::kNotStill;
+  const inertial::InitializationChoice choice = inertial::ChooseInitialization(
+      not_still, static_cast<int>(keyframes.size()), inertial::ImuExcitation(align.preintegrations),
+      choice_options);
+  VioInitEvent e;
+  e.frame = f;
+  if (choice.method != inertial::InitializationMethod::kDynamic) {
+    e.event = "wait";
+    e.reason = choice.reason;
+    events.push_back(e);
+    return false;
+  }
+  inertial::AlignmentOptions ao;
+  ao.gravity_magnitude = calib.gravity_magnitude;
+  const inertial::AlignmentResult a = inertial::AlignVisualInertial(align, ao);
+  e.event = "alignment";
+  e.keyframes = static_cast<int>(keyframes.size());
+  e.status = inertial::ToString(a.status);
+  e.message = a.message;
+  e.scale = a.scale;
+  events.push_back(e);
+  if (!a.success()) return false;
+  start.method = "dynamic";
+  start.first = keyframes.front();
+  start.second = keyframes.back();
+  start.state_first = {a.T_w_bk.front(), a.velocities_w.front(), a.bias};
+  start.state_second = {a.T_w_bk.back(), a.velocities_w.back(), a.bias};
+  for (std::size_t k = 0; k + 1 < keyframes.size(); ++k) {
+    start.candidates.push_back(keyframes[k]);
+    start.candidate_states.push_back({a.T_w_bk[k], a.velocities_w[k], a.bias});
+  }
+  start.T_w_b.assign(f + 1, std::nullopt);
+  for (int g = i; g <= f; ++g) {
+    start.T_w_b[g] = AlignedBodyPose(T_vo[i], T_vo[g], a.scale, a.T_w_bk.front(), calib.T_b_c);
+  }
+  return true;
+}
+
+// The run from (i, j) gave no alignment: a later start frame.
+void VisualInertialInitializer::Impl::Restart() {
+  VioInitEvent e;
+  e.event = "restart";
+  e.frame = i;
+  e.reason = "no alignment with this start";
+  events.push_back(e);
+  i = std::max(i, keyframes.size() > 2 ? keyframes[2] - 1 : j - 1) + 1;
+  j = i + 1;
+  run.reset();
+}
+
+// Advances the search as far as the frames so far allow (waits where it needs a later frame).
+bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInput>& frames,
+                                              const std::vector<sensor::ImuSample>& imu, bool end) {
+  const int n = static_cast<int>(frames.size());
+  while (true) {
+    if (!run) {
+      if (i + 1 >= n) {
+        if (end) phase = Phase::kFailed;
+        return false;
+      }
+      // The pair (i, j) (j up to 30 frames later), else the next start frame.
+      const bool pair_possible = Covered(imu, frames[i].time) && j <= i + 30;
+      if (pair_possible && j >= n && !end) return false;  // wait for frame j
+      if (!pair_possible || j >= n || !Covered(imu, frames[j].time)) {
+        ++i;
+        j = i + 1;
+      } else if (!TryPair(frames, imu)) {
+        ++j;
+      }
+      continue;
+    }
+    const bool running = static_cast<int>(keyframes.size()) <= o.init_max_keyframes;
+    if (running && f >= n && !end) return false;  // wait for frame f
+    if (!running || f >= n || !Covered(imu, frames[f].time)) {
+      Restart();
+      continue;
+    }
+    const window::FrameResult r = run->AddFrame(frames[f]);
+    if (!r.ok) {
+      Restart();
+      continue;
+    }
+    T_vo.resize(f + 1);
+    T_vo[f] = r.T_w_c;
+    if (r.keyframe) {
+      keyframes.push_back(f);
+      if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes && TryAlignment(frames, imu)) {
+        phase = Phase::kDone;
+        run.reset();
+        return true;
+      }
+    }
+    ++f;
+  }
+}
+
+VisualInertialInitializer::VisualInertialInitializer(const VisualInertialOdometryOptions& options,
+                                                     const VisualInertialCalibration& calibration)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->o = options;
+  impl_->calib = calibration;
+}
+
+VisualInertialInitializer::~VisualInertialInitializer() = default;
+
+bool VisualInertialInitializer::Advance(const std::vector<window::FrameInput>& frames,
+                                        const std::vector<sensor::ImuSample>& imu,
+                                        const std::vector<inertial::ImageMotionFlag>& flags,
+                                        bool end_of_input) {
+  Impl& m = *impl_;
+  if (m.phase == Impl::Phase::kDone) return true;
+  if (m.phase == Impl::Phase::kFailed || frames.empty()) return false;
+  if (m.phase == Impl::Phase::kStaticTest && m.StaticTest(frames, imu, flags, end_of_input))
+    return true;
+  if (m.phase == Impl::Phase::kDynamic) return m.Dynamic(frames, imu, end_of_input);
+  return false;
+}
+
+bool VisualInertialInitializer::failed() const { return impl_->phase == Impl::Phase::kFailed; }
+const VioStart& VisualInertialInitializer::start() const { return impl_->start; }
+const std::vector<VioInitEvent>& VisualInertialInitializer::events() const { return impl_->events; }
+
+}  // namespace odometry
+}  // namespace plucker

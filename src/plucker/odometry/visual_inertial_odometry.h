@@ -1,0 +1,219 @@
+// Online monocular point + line visual-inertial odometry (docs/vio.md): the pipeline of
+// `plucker vio` as a library, fed one IMU sample and one frame at a time as a driver delivers
+// them. The algorithm, per frame:
+//   initialise  (visual_inertial_initializer.h) static when the log starts still (gravity, gyro
+//               bias, accel bias along gravity), decided once the motion starts; else dynamic:
+//               a vision-only window from a two-view start checked against the gyroscope,
+//               aligned with the preintegrated IMU (scale, gravity, velocities, gyro bias) at
+//               each new keyframe; then the window starts on the initialisation's keyframes and
+//               the frames buffered after its last one are run through it (catch-up);
+//   track       window AddFrame: IMU prediction, visual tracking, keyframe decision,
+//               triangulation, solve with the IMU factors, marginalization.
+//
+// Causality: the result returned for frame k uses only the IMU samples and frames given up to
+// that call (the samples up to the frame's time must have been given: a driver waits for the
+// IMU to reach the image's timestamp). Before the start the result has no pose (status
+// kInitializing); the frames' observations are buffered until the initialisation decides, then
+// released (memory bounded by the initialisation's span and the window; what grows with the
+// sequence is one small record per frame, RefinedTrajectory(), and the window's IMU samples).
+//
+// Two trajectories: the per-frame (online) poses of the results, and RefinedTrajectory(): every
+// frame with a pose, the frames before the window's start backfilled once it starts (localized
+// against its first map, the aligned visual poses of the dynamic start), which an online output
+// cannot hold. Finish() ends the input: an initialisation still waiting decides on what it has
+// (a log that is still throughout starts static).
+//
+// No I/O, no printing, no timing: the caller times the calls (observers announce the stages).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "plucker/geometry/se3.h"
+#include "plucker/sensor/camera.h"
+#include "plucker/sensor/imu.h"
+#include "plucker/vision/image_frontend.h"
+#include "plucker/window/sliding_window_estimator.h"
+
+namespace plucker {
+namespace odometry {
+
+struct VisualInertialOdometryOptions {
+  bool use_lines = true;
+  int window = 10;  // keyframes in the window
+  // The poses-only prior (DSO pattern, the velocity and bias blocks and the IMU factor kept;
+  // docs/vio.md); false: the prior on the landmarks of the marginalized keyframe (slower).
+  bool prior_on_poses_only = true;
+  // Keyframes and solver budget: the IMU bridges longer gaps between keyframes than VO needs.
+  int iterations = 4;
+  double keyframe_parallax_px = 20.0;
+  int min_tracked = 20;            // a keyframe when fewer landmarks are tracked
+  double min_tracked_ratio = 0.3;  // ... or fewer than this share of the frame's observations
+  double max_keyframe_interval_s = 1.0;
+  double gyro_bias_prior_sigma = 0.01;
+  double accel_bias_prior_sigma = 0.1;
+  double velocity_prior_sigma = 0.1;
+  // Per-frame tracking fuses the IMU prediction (window::InertialOptions, m/s; 0: vision only).
+  double tracking_velocity_sigma = 0.02;
+
+  int init_min_keyframes = 10;        // dynamic initialisation: keyframes before the alignment
+  int init_max_keyframes = 30;        // ... and the most it waits for
+  double init_min_excitation = 0.25;  // m/s^2
+  // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
+  // within this angle plus init_gyro_bias_bound times the time between the two frames.
+  double init_max_rotation_disagreement_deg = 1.0;
+  double init_gyro_bias_bound = 0.1;  // rad/s, the largest gyro bias expected before it is known
+  // A frame whose median point displacement against the previous frame exceeds this moves
+  // (vetoes the static initialisation over its IMU block; else the window's zero-motion update).
+  double image_still_px = 3.0;
+  // Image front end of AddImage: the speed settings of `plucker vo --images` (docs/vo.md).
+  int max_point_tracks = 200;
+  double point_min_distance_px = 20.0;
+  int line_max_segments = 60;         // longest segments kept per image (0: all)
+  double line_detection_scale = 0.5;  // image scale of the segment detection
+  int line_flow_samples = 3;          // points per segment followed by optical flow
+  // Online estimation of the camera-body extrinsic (window::InertialOptions, docs/vio.md), with
+  // a prior on the given T_b_c (sigmas in rad and m); held until the window has rotated this much
+  // about two axes (0: free from the start).
+  bool estimate_extrinsic = false;
+  double extrinsic_rotation_sigma = 0.05;
+  double extrinsic_translation_sigma = 0.02;
+  double extrinsic_min_rotation_deg = 0.0;
+
+  // Empty when usable, else which ranges are violated.
+  std::string Problem() const;
+  void Check() const;  // throws std::invalid_argument with Problem()
+};
+
+// The sensors. `camera`: the raw camera of AddImage (its images are undistorted to the pinhole
+// camera.K, the pixels of the observations given to AddFrame).
+struct VisualInertialCalibration {
+  sensor::Camera camera;
+  SE3d T_b_c;  // the camera in the body (IMU) frame
+  sensor::ImuModel imu;
+  double gravity_magnitude = 9.81;  // m/s^2
+  double pixel_sigma = 1.0;         // observation noise (at least 0.5 px is used)
+};
+
+enum class VioStatus {
+  kInitializing,      // no pose yet (buffered for the initialisation)
+  kStarted,           // the window started at this frame (the initialisation's last frame)
+  kTracking,          // the window tracked the frame
+  kImuOnly,           // too little tracked: the IMU prediction
+  kStationary,        // the zero-motion update (a standing body)
+  kSkippedNoImu,      // the IMU does not cover the frame
+  kSkippedNonFinite,  // no finite pose
+  kFailed,            // the window could not start (message); later frames fail too
+};
+const char* ToString(VioStatus status);
+
+// What the refined trajectory holds for a frame (the JSON statuses of `plucker vio`).
+enum class VioFrameKind {
+  kBeforeInitialization,   // no pose, or (with a pose) the next frame's pose carried back
+  kInitialization,         // the initialisation's pose (window keyframe or aligned, localized)
+  kLocalizedBeforeWindow,  // localized against the window's first map
+  kWindow,                 // the window's per-frame result (status in VioStatus)
+};
+
+// One frame of the refined trajectory (see RefinedTrajectory()).
+struct VioFrameRecord {
+  int frame = 0;  // index among the frames given
+  double time = 0.0;
+  VioFrameKind kind = VioFrameKind::kBeforeInitialization;
+  VioStatus status = VioStatus::kInitializing;  // kind == kWindow: the window's outcome
+  std::optional<SE3d> T_w_b;
+  bool keyframe = false;
+  std::optional<window::FrameResult> window;  // kind == kWindow and not skipped
+  std::string skip_reason;                    // kSkippedNoImu
+};
+std::string ToString(const VioFrameRecord& record);  // the JSON status string
+
+struct VioFrameResult {
+  int frame = 0;
+  double time = 0.0;
+  VioStatus status = VioStatus::kInitializing;
+  std::optional<SE3d> T_w_b;  // online pose (none while initialising or skipped)
+  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
+  ImuBias bias;
+  std::optional<window::FrameResult> window;       // this frame's window statistics
+  int observed_points = 0, observed_segments = 0;  // the frame's input
+  // Frames whose refined records became final in this call, oldest first (at the start: all the
+  // buffered frames; then this frame).
+  std::vector<VioFrameRecord> settled;
+  std::string message;  // kFailed
+};
+
+// What the initialisation did, for reports.
+struct VioInitEvent {
+  std::string event;  // static_test | wait | alignment | restart
+  int frame = -1;     // -1: none
+  std::string status, message, reason;
+  int keyframes = 0;
+  double scale = 0.0;
+  bool still = false;  // static_test succeeded: the three below are set
+  double still_seconds = 0.0;
+  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), up_b = Eigen::Vector3d::Zero();
+};
+
+struct VioInitialization {
+  bool done = false;
+  std::string method;  // static | dynamic
+  int first = -1, second = -1;
+  window::InertialState state_first;
+  std::vector<VioInitEvent> events;
+};
+
+class VisualInertialOdometry {
+ public:
+  // Throws std::invalid_argument for invalid options.
+  VisualInertialOdometry(const VisualInertialOdometryOptions& options,
+                         const VisualInertialCalibration& calibration);
+  ~VisualInertialOdometry();
+  VisualInertialOdometry(const VisualInertialOdometry&) = delete;
+  VisualInertialOdometry& operator=(const VisualInertialOdometry&) = delete;
+
+  // Times increasing across calls; std::invalid_argument otherwise (nothing changed).
+  void AddImu(const sensor::ImuSample& sample);
+  // A raw 8-bit grayscale image of calibration.camera: undistorted, the image front end
+  // (vision/image_frontend.h), then AddFrame. Throws std::invalid_argument (nothing changed) for
+  // an empty image or one of another size.
+  VioFrameResult AddImage(double t, const cv::Mat& image,
+                          const vision::FrontendObserver& frontend_observer = {},
+                          const window::StageObserver& window_observer = {});
+  // A frame's observations (undistorted pixels of camera.K, track ids), times increasing.
+  VioFrameResult AddFrame(const window::FrameInput& frame,
+                          const window::StageObserver& observer = {});
+  // End of the input: a waiting initialisation decides on all it has (see the file comment);
+  // the frames it settles are returned (status kFailed with a message when it cannot start).
+  VioFrameResult Finish(const window::StageObserver& observer = {});
+
+  bool initialized() const;
+  const VioInitialization& initialization() const;
+  // Every frame given so far, with the refined (backfilled) poses; frames still buffered for
+  // the initialisation have none.
+  const std::vector<VioFrameRecord>& RefinedTrajectory() const;
+  // The extrinsic the window uses (calibration.T_b_c before the start) and whether it is free.
+  SE3d ExtrinsicEstimate() const;
+  bool ExtrinsicFree() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// What each trajectory holds, one line each (the comments of `plucker vio`'s TUM files).
+extern const char* const kRefinedTrajectoryNote;
+extern const char* const kOnlineTrajectoryNote;
+
+// The window's options for these options and sensors (also the dynamic start's vision-only
+// window, with the inertial part removed).
+window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& options,
+                                           const VisualInertialCalibration& calibration);
+vision::ImageFrontendOptions FrontendOptions(const VisualInertialOdometryOptions& options);
+
+}  // namespace odometry
+}  // namespace plucker

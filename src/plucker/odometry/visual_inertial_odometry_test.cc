@@ -1,0 +1,289 @@
+// The online visual-inertial odometry on simulated rooms: the dynamic start, the static start
+// (a still period spliced before the motion), a start the gyroscope check refuses, the restart
+// of the dynamic search, tracking lost and regained, and frame-by-frame feeding against the
+// IMU given all at once (nothing of the future is used).
+#include "plucker/odometry/visual_inertial_odometry.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "plucker/eval/ate.h"
+#include "plucker/sim/camera_observations.h"
+
+namespace plucker {
+namespace odometry {
+namespace {
+
+struct Input {
+  VisualInertialCalibration calib;
+  std::vector<sensor::ImuSample> imu;
+  std::vector<window::FrameInput> frames;
+  std::vector<SE3d> gt_T_w_b;
+};
+
+Input Simulate(int num_frames, std::uint64_t seed = 1) {
+  sim::CameraSimulationOptions o;
+  o.scene.kind = sim::SceneKind::kRoom;
+  o.num_frames = num_frames;
+  o.seed = seed;
+  const sim::CameraSimulation s = sim::SimulateCamera(o);
+  Input in;
+  in.calib.camera.K = s.rig.K;
+  in.calib.camera.width = s.rig.width;
+  in.calib.camera.height = s.rig.height;
+  in.calib.T_b_c = s.rig.T_b_c;
+  in.calib.imu = s.imu_options.model;
+  in.calib.gravity_magnitude = s.imu_options.gravity_w.norm();
+  in.calib.pixel_sigma = s.obs_options.pixel_sigma;
+  in.imu = s.imu;
+  in.frames.resize(s.frame_times.size());
+  for (std::size_t i = 0; i < in.frames.size(); ++i) in.frames[i].time = s.frame_times[i];
+  for (const auto& p : s.points)
+    if (p.point_id % 2 == 0) in.frames[p.frame].points.push_back(p);
+  in.gt_T_w_b = s.T_w_b_gt;
+  return in;
+}
+
+VisualInertialOdometryOptions FastOptions() {
+  VisualInertialOdometryOptions o;
+  o.use_lines = false;
+  return o;
+}
+
+struct VioRun {
+  std::vector<VioFrameResult> results;
+  std::vector<VioFrameRecord> refined;
+  VioInitialization init;
+};
+
+// As a driver: the IMU up to each frame's time, then the frame (imu_first: all the IMU first).
+VioRun Feed(const Input& in, const VisualInertialOdometryOptions& options, bool imu_first = false,
+            int num_frames = -1) {
+  VisualInertialOdometry vio(options, in.calib);
+  VioRun run;
+  const int n = num_frames < 0 ? static_cast<int>(in.frames.size()) : num_frames;
+  std::size_t k = 0;
+  if (imu_first)
+    for (; k < in.imu.size(); ++k) vio.AddImu(in.imu[k]);
+  for (int i = 0; i < n; ++i) {
+    while (k < in.imu.size() && (k == 0 || in.imu[k - 1].t < in.frames[i].time))
+      vio.AddImu(in.imu[k++]);
+    run.results.push_back(vio.AddFrame(in.frames[i]));
+  }
+  if (num_frames < 0) run.results.push_back(vio.Finish());
+  run.refined = vio.RefinedTrajectory();
+  run.init = vio.initialization();
+  return run;
+}
+
+bool Same(const std::optional<SE3d>& a, const std::optional<SE3d>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a ||
+         (a->translation() == b->translation() && a->rotation().coeffs() == b->rotation().coeffs());
+}
+
+int StartFrame(const VioRun& run) {
+  for (const VioFrameResult& r : run.results)
+    if (!r.settled.empty()) return r.frame;
+  return -1;
+}
+
+double AtePositionYaw(const VioRun& run, const Input& in) {
+  std::vector<SE3d> gt, est;
+  for (const VioFrameRecord& r : run.refined) {
+    if (!r.T_w_b) continue;
+    gt.push_back(in.gt_T_w_b[r.frame]);
+    est.push_back(*r.T_w_b);
+  }
+  return eval::ComputeAte(gt, est, {eval::AlignmentMode::kPositionYaw}).translation_m.rmse;
+}
+
+TEST(VisualInertialOdometry, DynamicStartOnAMovingRoom) {
+  const Input in = Simulate(60);
+  const VioRun run = Feed(in, FastOptions());
+  ASSERT_TRUE(run.init.done);
+  EXPECT_EQ(run.init.method, "dynamic");
+  const int start = StartFrame(run);
+  ASSERT_GT(start, 0);
+  EXPECT_EQ(start, run.init.second);  // the alignment's last keyframe is the current frame
+  for (int i = 0; i < start; ++i) {
+    EXPECT_EQ(run.results[i].status, VioStatus::kInitializing) << i;
+    EXPECT_FALSE(run.results[i].T_w_b) << i;
+  }
+  EXPECT_EQ(run.results[start].settled.size(), static_cast<std::size_t>(start + 1));
+  for (int i = start; i < 60; ++i) EXPECT_TRUE(run.results[i].T_w_b) << i;
+  for (const VioFrameRecord& r : run.refined) EXPECT_TRUE(r.T_w_b) << r.frame;  // backfilled
+  EXPECT_LT(AtePositionYaw(run, in), 0.15);
+}
+
+// The result of frame k depends on the inputs up to frame k only: the IMU given all at once,
+// and a run stopped at frame k, give the same per-frame results bit for bit.
+TEST(VisualInertialOdometry, FrameByFrameEqualsBatch) {
+  const Input in = Simulate(60);
+  const VioRun online = Feed(in, FastOptions());
+  const VioRun batch = Feed(in, FastOptions(), /*imu_first=*/true);
+  const int start = StartFrame(online);
+  ASSERT_GT(start, 0);
+  const VioRun prefix = Feed(in, FastOptions(), false, start + 5);
+  ASSERT_EQ(online.results.size(), batch.results.size());
+  for (std::size_t i = 0; i < online.results.size(); ++i) {
+    EXPECT_EQ(online.results[i].status, batch.results[i].status) << i;
+    EXPECT_TRUE(Same(online.results[i].T_w_b, batch.results[i].T_w_b)) << i;
+    if (i < prefix.results.size()) {
+      EXPECT_EQ(online.results[i].status, prefix.results[i].status) << i;
+      EXPECT_TRUE(Same(online.results[i].T_w_b, prefix.results[i].T_w_b)) << i;
+    }
+  }
+  ASSERT_EQ(online.refined.size(), batch.refined.size());
+  for (std::size_t i = 0; i < online.refined.size(); ++i)
+    EXPECT_TRUE(Same(online.refined[i].T_w_b, batch.refined[i].T_w_b)) << i;
+}
+
+// A still period before the motion: the IMU at rest at the first pose, the first frame's
+// observations repeated; then the simulated motion, later by the still period.
+Input StillThenMoving(int still_frames, int moving_frames) {
+  const Input moving = Simulate(moving_frames);
+  Input in = moving;
+  const double dt = moving.frames[1].time - moving.frames[0].time;
+  const double shift = still_frames * dt;
+  in.frames.clear();
+  in.imu.clear();
+  in.gt_T_w_b.clear();
+  const Eigen::Vector3d f_b = moving.gt_T_w_b[0].rotation().conjugate() *
+                              Eigen::Vector3d(0.0, 0.0, moving.calib.gravity_magnitude);
+  for (double t = moving.imu.front().t; t < moving.frames[0].time + shift - 1e-9; t += 0.005) {
+    sensor::ImuSample s;
+    s.t = t;
+    s.accel = f_b + moving.imu.front().accel_bias;
+    s.gyro = moving.imu.front().gyro_bias;
+    in.imu.push_back(s);
+  }
+  for (int i = 0; i < still_frames; ++i) {
+    window::FrameInput f = moving.frames[0];
+    f.time = moving.frames[0].time + i * dt;
+    in.frames.push_back(f);
+    in.gt_T_w_b.push_back(moving.gt_T_w_b[0]);
+  }
+  for (sensor::ImuSample s : moving.imu) {
+    s.t += shift;
+    if (s.t > in.imu.back().t) in.imu.push_back(s);
+  }
+  for (std::size_t i = 1; i < moving.frames.size(); ++i) {
+    window::FrameInput f = moving.frames[i];
+    f.time += shift;
+    in.frames.push_back(f);
+    in.gt_T_w_b.push_back(moving.gt_T_w_b[i]);
+  }
+  return in;
+}
+
+TEST(VisualInertialOdometry, StaticStartDecidedWhenTheMotionStarts) {
+  const Input in = StillThenMoving(40, 30);
+  const VioRun run = Feed(in, FastOptions());
+  ASSERT_TRUE(run.init.done);
+  EXPECT_EQ(run.init.method, "static");
+  EXPECT_EQ(run.init.first, 0);
+  EXPECT_EQ(run.init.second, 1);
+  const int start = StartFrame(run);
+  EXPECT_GE(start, 40);  // not before the images move
+  EXPECT_LT(start, 50);
+  ASSERT_FALSE(run.init.events.empty());
+  EXPECT_TRUE(run.init.events.front().still);
+  EXPECT_GT(run.init.events.front().still_seconds, 1.0);
+  for (int i = 0; i < start; ++i) EXPECT_FALSE(run.results[i].T_w_b) << i;
+  const std::vector<VioFrameRecord>& settled = run.results[start].settled;
+  ASSERT_EQ(settled.size(), static_cast<std::size_t>(start + 1));
+  for (int i = 2; i < 40; ++i) {  // the window's zero-motion update while standing
+    ASSERT_TRUE(settled[i].window) << i;
+    EXPECT_TRUE(settled[i].window->stationary) << i;
+  }
+  for (const VioFrameRecord& r : run.refined) EXPECT_TRUE(r.T_w_b) << r.frame;
+}
+
+TEST(VisualInertialOdometry, StillThroughoutStartsStaticAtTheEnd) {
+  const Input in = StillThenMoving(30, 2);
+  Input still = in;
+  still.frames.resize(30);
+  const VioRun run = Feed(still, FastOptions());
+  EXPECT_EQ(run.init.method, "static");
+  EXPECT_EQ(StartFrame(run), 29);  // Finish: the frames so far
+  EXPECT_EQ(run.results.back().settled.size(), 30u);
+}
+
+// The gyroscope disagrees with every two-view rotation (a 0.5 rad/s bias about the camera's
+// optical axis): no vision-only run starts; with the check loosened the same data starts one.
+TEST(VisualInertialOdometry, GyroscopeCheckRefusesTheTwoViewStart) {
+  Input in = Simulate(16);
+  const Eigen::Vector3d axis_b = in.calib.T_b_c.rotation() * Eigen::Vector3d::UnitZ();
+  for (sensor::ImuSample& s : in.imu) s.gyro += 0.5 * axis_b;
+  const VioRun refused = Feed(in, FastOptions());
+  EXPECT_FALSE(refused.init.done);
+  EXPECT_EQ(refused.results.back().status, VioStatus::kFailed);
+  for (const VioInitEvent& e : refused.init.events)
+    EXPECT_TRUE(e.event == "static_test") << e.event;  // no run: no wait/alignment/restart
+  VisualInertialOdometryOptions loose = FastOptions();
+  loose.init_max_rotation_disagreement_deg = 180.0;
+  const VioRun accepted = Feed(in, loose);
+  const bool ran = std::any_of(accepted.init.events.begin(), accepted.init.events.end(),
+                               [](const VioInitEvent& e) { return e.event != "static_test"; });
+  EXPECT_TRUE(ran);
+}
+
+// A run that cannot align (the excitation demanded is out of reach) restarts from a later
+// start frame, and the input ends without a start: kFailed with the message.
+TEST(VisualInertialOdometry, DynamicSearchRestarts) {
+  const Input in = Simulate(60);
+  VisualInertialOdometryOptions o = FastOptions();
+  o.init_min_excitation = 1e9;
+  o.init_max_keyframes = 12;
+  const VioRun run = Feed(in, o);
+  EXPECT_FALSE(run.init.done);
+  const int restarts =
+      static_cast<int>(std::count_if(run.init.events.begin(), run.init.events.end(),
+                                     [](const VioInitEvent& e) { return e.event == "restart"; }));
+  EXPECT_GE(restarts, 1);
+  EXPECT_EQ(run.results.back().status, VioStatus::kFailed);
+  EXPECT_NE(run.results.back().message.find("cannot initialise"), std::string::npos);
+}
+
+// Frames without observations after the start: the IMU prediction (kImuOnly), then tracking
+// resumes when the observations come back.
+TEST(VisualInertialOdometry, TrackingLostAndRegained) {
+  Input in = Simulate(60);
+  const VioRun clean = Feed(in, FastOptions());
+  const int start = StartFrame(clean);
+  ASSERT_GT(start, 0);
+  ASSERT_LT(start + 10, 60);
+  const int lost_from = start + 2, lost_to = start + 4;
+  for (int i = lost_from; i <= lost_to; ++i) in.frames[i].points.clear();
+  const VioRun run = Feed(in, FastOptions());
+  for (int i = lost_from; i <= lost_to; ++i) {
+    EXPECT_EQ(run.results[i].status, VioStatus::kImuOnly) << i;
+    EXPECT_TRUE(run.results[i].T_w_b) << i;
+  }
+  int tracked_after = 0;
+  for (int i = lost_to + 1; i < 60; ++i)
+    tracked_after += run.results[i].status == VioStatus::kTracking;
+  EXPECT_GT(tracked_after, 0);
+  EXPECT_LT(AtePositionYaw(run, in), 0.3);
+}
+
+TEST(VisualInertialOdometry, RejectsInvalidOptionsAndInputs) {
+  VisualInertialOdometryOptions o;
+  o.window = 1;
+  EXPECT_FALSE(o.Problem().empty());
+  const Input in = Simulate(5);
+  EXPECT_THROW(VisualInertialOdometry(o, in.calib), std::invalid_argument);
+  VisualInertialOdometry vio(FastOptions(), in.calib);
+  vio.AddImu(in.imu[1]);
+  EXPECT_THROW(vio.AddImu(in.imu[0]), std::invalid_argument);
+  vio.AddFrame(in.frames[1]);
+  EXPECT_THROW(vio.AddFrame(in.frames[0]), std::invalid_argument);
+  EXPECT_THROW(vio.AddImage(10.0, cv::Mat()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace odometry
+}  // namespace plucker
