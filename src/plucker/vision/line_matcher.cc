@@ -201,8 +201,8 @@ Gate GatePair(const SegmentGeometry& a, const SegmentGeometry& b, const LineMatc
 
 }  // namespace
 
-LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
-                           const LineDescriberOptions& options, LineDescriptionStats* stats) {
+LineFeatures PrepareLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                          const LineDescriberOptions& options, LineDescriptionStats* stats) {
   if (gray.empty() || gray.type() != CV_8UC1) {
     throw std::invalid_argument("DescribeLines: the image must be non-empty 8-bit grayscale");
   }
@@ -216,7 +216,6 @@ LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& se
   LineFeatures out;
   const Eigen::Vector2d lo(options.border_px, options.border_px);
   const Eigen::Vector2d hi(gray.cols - 1 - options.border_px, gray.rows - 1 - options.border_px);
-  std::vector<cv::line_descriptor::KeyLine> keylines;
   for (std::size_t i = 0; i < segments.size(); ++i) {
     Segment2d s = segments[i];
     if (!s.allFinite() || !(hi.x() > lo.x() && hi.y() > lo.y()) || !Clip(lo, hi, &s) ||
@@ -228,22 +227,41 @@ LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& se
       s = Segment2d(s[2], s[3], s[0], s[1]);
       ++st.flipped;
     }
-    keylines.push_back(MakeKeyLine(s, static_cast<int>(out.segments.size()), gray));
     out.segments.push_back(s);
     out.source_index.push_back(static_cast<int>(i));
   }
   st.described = out.size();
-  if (keylines.empty()) return out;
+  return out;
+}
+
+cv::Mat ComputeLineDescriptors(const cv::Mat& gray, const std::vector<Segment2d>& prepared,
+                               const LineDescriberOptions& options) {
+  if (gray.empty() || gray.type() != CV_8UC1 || options.band_width < 1) {
+    throw std::invalid_argument("ComputeLineDescriptors: invalid image or options");
+  }
+  cv::Mat descriptors;
+  if (prepared.empty()) return descriptors;
+  std::vector<cv::line_descriptor::KeyLine> keylines;
+  for (std::size_t i = 0; i < prepared.size(); ++i) {
+    keylines.push_back(MakeKeyLine(prepared[i], static_cast<int>(i), gray));
+  }
   cv::line_descriptor::BinaryDescriptor::Params params;
   params.numOfOctave_ = 1;
   params.widthOfBand_ = options.band_width;
   const cv::Ptr<cv::line_descriptor::BinaryDescriptor> lbd =
       cv::line_descriptor::BinaryDescriptor::createBinaryDescriptor(params);
-  lbd->compute(gray, keylines, out.descriptors);
-  if (out.descriptors.rows != out.size() || out.descriptors.cols != kDescriptorBytes ||
-      out.descriptors.type() != CV_8UC1) {
+  lbd->compute(gray, keylines, descriptors);
+  if (descriptors.rows != static_cast<int>(prepared.size()) ||
+      descriptors.cols != kDescriptorBytes || descriptors.type() != CV_8UC1) {
     throw std::runtime_error("DescribeLines: unexpected LBD descriptor layout");
   }
+  return descriptors;
+}
+
+LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                           const LineDescriberOptions& options, LineDescriptionStats* stats) {
+  LineFeatures out = PrepareLines(gray, segments, options, stats);
+  out.descriptors = ComputeLineDescriptors(gray, out.segments, options);
   return out;
 }
 
@@ -267,24 +285,21 @@ std::optional<double> EpipolarOverlap(const Segment2d& a, const Segment2d& b,
   return OverlapOfEpipolarLines(l, Geometry(b), std::sin(min_angle_deg * M_PI / 180.0));
 }
 
-LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
-                           const LineMatcherOptions& o, const std::optional<Eigen::Matrix3d>& F_b_a,
-                           const LinePredictions* predicted) {
+std::vector<GatedPair> GateLinePairs(const LineFeatures& a, const LineFeatures& b,
+                                     const LineMatcherOptions& o,
+                                     const std::optional<Eigen::Matrix3d>& F_b_a,
+                                     const LinePredictions* predicted, LineMatchStats* stats) {
   if (predicted && static_cast<int>(predicted->size()) != a.size()) {
     throw std::invalid_argument("MatchLines: one prediction list per segment of a expected");
   }
-  LineMatchResult result;
-  LineMatchStats& st = result.stats;
+  LineMatchStats local;
+  LineMatchStats& st = stats ? *stats : local;
+  st = LineMatchStats{};
   st.a = a.size();
   st.b = b.size();
   st.pairs = static_cast<long>(st.a) * st.b;
-  if (st.a == 0 || st.b == 0) {
-    st.no_candidate = st.a;
-    return result;
-  }
-  // Distances of the gated pairs (-1: gated out) and their epipolar overlaps.
-  std::vector<int> dist(static_cast<std::size_t>(st.pairs), -1);
-  std::vector<double> overlaps(dist.size(), -1.0);
+  std::vector<GatedPair> out;
+  if (st.a == 0 || st.b == 0) return out;
   const GateConstants constants = Constants(o);
   std::vector<SegmentGeometry> geometry_b(st.b);
   for (int j = 0; j < st.b; ++j) geometry_b[j] = Geometry(b.segments[j]);
@@ -319,10 +334,29 @@ LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
           break;
       }
       ++st.gated;
-      const std::size_t k = static_cast<std::size_t>(i) * st.b + j;
-      dist[k] = HammingDistance(a.descriptors, i, b.descriptors, j);
-      overlaps[k] = overlap;
+      out.push_back({i, j, overlap});
     }
+  }
+  return out;
+}
+
+LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
+                           const LineMatcherOptions& o, const std::optional<Eigen::Matrix3d>& F_b_a,
+                           const LinePredictions* predicted) {
+  LineMatchResult result;
+  LineMatchStats& st = result.stats;
+  const std::vector<GatedPair> gated = GateLinePairs(a, b, o, F_b_a, predicted, &st);
+  if (st.a == 0 || st.b == 0) {
+    st.no_candidate = st.a;
+    return result;
+  }
+  // Distances of the gated pairs (-1: gated out) and their epipolar overlaps.
+  std::vector<int> dist(static_cast<std::size_t>(st.pairs), -1);
+  std::vector<double> overlaps(dist.size(), -1.0);
+  for (const GatedPair& g : gated) {
+    const std::size_t k = static_cast<std::size_t>(g.a) * st.b + g.b;
+    dist[k] = HammingDistance(a.descriptors, g.a, b.descriptors, g.b);
+    overlaps[k] = g.overlap;
   }
   // Best a for every b (for the mutual test and for uniqueness).
   std::vector<int> best_a(st.b, -1), best_a_dist(st.b, std::numeric_limits<int>::max());

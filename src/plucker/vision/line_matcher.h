@@ -63,6 +63,16 @@ LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& se
                            const LineDescriberOptions& options = {},
                            LineDescriptionStats* stats = nullptr);
 
+// The two steps of DescribeLines, for callers that describe only some segments (line_tracker.h):
+// PrepareLines clips and orients (descriptors left empty; the same segments and stats as
+// DescribeLines), ComputeLineDescriptors gives the LBD rows of prepared segments (row i for
+// prepared[i]; a segment's descriptor does not depend on the others in the list).
+LineFeatures PrepareLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                          const LineDescriberOptions& options = {},
+                          LineDescriptionStats* stats = nullptr);
+cv::Mat ComputeLineDescriptors(const cv::Mat& gray, const std::vector<Segment2d>& prepared,
+                               const LineDescriberOptions& options = {});
+
 struct LineMatcherOptions {
   int max_hamming = 50;         // of 256 bits
   double ratio = 0.8;           // best < ratio * second best (among gated candidates)
@@ -119,6 +129,18 @@ LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
                            const LineMatcherOptions& options = {},
                            const std::optional<Eigen::Matrix3d>& F_b_a = std::nullopt,
                            const LinePredictions* predicted = nullptr);
+
+// Step 1 of MatchLines alone (no descriptors needed): the pairs that pass every geometric gate,
+// in the order (a, b); stats gets the counts up to `gated`.
+struct GatedPair {
+  int a = -1, b = -1;
+  double overlap = -1;  // as LineMatch::overlap
+};
+std::vector<GatedPair> GateLinePairs(const LineFeatures& a, const LineFeatures& b,
+                                     const LineMatcherOptions& options = {},
+                                     const std::optional<Eigen::Matrix3d>& F_b_a = std::nullopt,
+                                     const LinePredictions* predicted = nullptr,
+                                     LineMatchStats* stats = nullptr);
 
 // Overlap of segment b with the interval the epipolar lines of a's endpoints cut on b's line,
 // relative to the shorter of the two, in [0, 1]; nullopt when b is within min_angle_deg of an

@@ -173,6 +173,62 @@ TEST(LineTracker, RealKittiClipFirstFrames) {
   EXPECT_LT(refined_rms, linear_rms);
 }
 
+// Flow-first association against descriptors on every gated pair, on the same real frames: the
+// unique flow-gated pairs skip LBD, which is then computed for a fraction of the segments, and
+// the tracks stay as precise.
+TEST(LineTracker, FlowFirstDescribesFewerSegmentsOnTheKittiClip) {
+  const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
+  if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
+  const io::ImageFolder folder = io::OpenImageFolder((data / "image_0").string());
+  const PinholeIntrinsics K =
+      io::ReadKittiCalibration((data / "calib.txt").string(), folder.size.width, folder.size.height)
+          .camera.K;
+  const io::Trajectory gt = io::ReadTrajectory((data / "poses.txt").string());
+  std::vector<cv::Mat> images;
+  std::vector<std::vector<Segment2d>> segments;
+  for (int f = 0; f < 6; ++f) {
+    images.push_back(io::ReadGrayImage(folder.files[f]));
+    segments.push_back(DetectLineSegments(images.back()).segments);
+  }
+  struct Run {
+    int described = 0, flow_matched = 0, segments = 0, continued = 0;
+    eval::LineTrackQuality quality;
+  };
+  auto run = [&](bool flow_first) {
+    LineTrackerOptions options;
+    options.flow_first = flow_first;
+    PointTracker points(PointTrackerOptions{}, K);
+    LineTracker lines(options);
+    Run r;
+    std::vector<sensor::SegmentObservation> obs;
+    for (std::size_t f = 0; f < images.size(); ++f) {
+      const FlowPyramid pyramid(images[f], 15, 4);
+      const PointTrackerFrame p = points.Track(pyramid);
+      const LineTrackerFrame l = lines.Track(pyramid, segments[f], p.F_cur_prev);
+      r.described += l.stats.lbd_described;
+      r.flow_matched += l.stats.flow_matched;
+      r.segments += l.stats.description.described;
+      r.continued += l.stats.continued + l.stats.reassociated;
+      EXPECT_EQ(l.stats.match.matches, l.stats.continued + l.stats.reassociated);
+      obs.insert(obs.end(), l.observations.begin(), l.observations.end());
+    }
+    r.quality = eval::EvaluateLineTracks(K, gt.poses, obs);
+    return r;
+  };
+  const Run all = run(false), first = run(true);
+  std::printf(
+      "descriptors on every gated pair: %d LBD of %d segments, %d continued, precision %.3f; "
+      "flow first: %d LBD, %d matched by flow, %d continued, precision %.3f\n",
+      all.described, all.segments, all.continued, all.quality.precision(), first.described,
+      first.flow_matched, first.continued, first.quality.precision());
+  EXPECT_EQ(all.flow_matched, 0);
+  EXPECT_GT(first.flow_matched, all.continued / 3);
+  EXPECT_LT(2 * first.described, all.described);
+  EXPECT_GT(first.continued, 0.9 * all.continued);
+  EXPECT_GE(first.quality.precision(), 0.9);
+  EXPECT_GE(all.quality.precision(), 0.9);
+}
+
 }  // namespace
 }  // namespace vision
 }  // namespace plucker

@@ -57,6 +57,16 @@ TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
     EXPECT_EQ(f.stats.live(), 150);  // re-detection refills to the target
     EXPECT_GT(f.stats.tracked, 120);
     EXPECT_TRUE(f.stats.ransac_run);
+    EXPECT_EQ(f.stats.ransac_inliers, f.stats.tracked);
+    // The RANSAC model is returned: the tracked points satisfy x_cur^T F x_prev = 0.
+    ASSERT_TRUE(f.F_cur_prev.has_value());
+    EXPECT_NEAR(f.F_cur_prev->norm(), 1.0, 1e-9);
+    for (const auto& o : f.observations) {
+      const auto it = start.find(o.point_id);
+      if (it == start.end() || k != 1) continue;
+      const Eigen::Vector3d l = *f.F_cur_prev * it->second.homogeneous();
+      EXPECT_LT(std::abs(l.dot(o.uv.homogeneous())) / l.head<2>().norm(), 2.0);
+    }
     detected_later += f.stats.detected;
     for (const auto& o : f.observations) {
       const auto it = start.find(o.point_id);
