@@ -27,10 +27,12 @@ FlowPyramid::FlowPyramid(const cv::Mat& image, int window_px, int max_level)
 
 void PyramidFlow(const FlowPyramid& from, const FlowPyramid& to,
                  const std::vector<cv::Point2f>& points, int window_px, int max_level,
-                 std::vector<cv::Point2f>* moved, std::vector<unsigned char>* status) {
+                 std::vector<cv::Point2f>* moved, std::vector<unsigned char>* status,
+                 int max_iterations) {
   if (from.empty() || to.empty() || from.size() != to.size()) {
     throw std::invalid_argument("PyramidFlow: empty pyramids or images of different sizes");
   }
+  if (max_iterations < 1) throw std::invalid_argument("PyramidFlow: max_iterations must be >= 1");
   if (window_px < 3 || window_px > std::min(from.window_px(), to.window_px())) {
     throw std::invalid_argument("PyramidFlow: window larger than the pyramids were built for");
   }
@@ -39,8 +41,10 @@ void PyramidFlow(const FlowPyramid& from, const FlowPyramid& to,
   if (points.empty()) return;
   const int levels = std::max(0, std::min({max_level, from.max_level(), to.max_level()}));
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(from.levels(), to.levels(), points, *moved, *status, error,
-                           cv::Size(window_px, window_px), levels);
+  cv::calcOpticalFlowPyrLK(
+      from.levels(), to.levels(), points, *moved, *status, error, cv::Size(window_px, window_px),
+      levels,
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, max_iterations, 0.01));
 }
 
 }  // namespace vision

@@ -41,11 +41,13 @@ class FlowPyramid {
 
 // Pyramidal Lucas-Kanade flow of `points` from image `from` into image `to` (both of the same
 // size), with a square window of window_px (<= both pyramids' window_px) on up to max_level
-// levels (clipped to the pyramids'). status[i] != 0 where flow converged. Throws
+// levels (clipped to the pyramids'), at most max_iterations Gauss-Newton steps per level (OpenCV's
+// default 30; steps stop below 0.01 px). status[i] != 0 where flow converged. Throws
 // std::invalid_argument for empty or mismatched pyramids or a too large window.
 void PyramidFlow(const FlowPyramid& from, const FlowPyramid& to,
                  const std::vector<cv::Point2f>& points, int window_px, int max_level,
-                 std::vector<cv::Point2f>* moved, std::vector<unsigned char>* status);
+                 std::vector<cv::Point2f>* moved, std::vector<unsigned char>* status,
+                 int max_iterations = 30);
 
 }  // namespace vision
 }  // namespace plucker

@@ -14,6 +14,8 @@ namespace vision {
 namespace {
 
 constexpr int kDescriptorBytes = 32;
+constexpr int kLbdBands = 9;           // the bands of OpenCV's LBD (fixed in its implementation)
+constexpr int kLbdFilterMarginPx = 8;  // its 5x5 Gaussian and 3x3 Sobel, with room to spare
 
 // Liang-Barsky clip of s to [lo, hi] in both coordinates; false when nothing is left.
 bool Clip(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Segment2d* s) {
@@ -66,7 +68,7 @@ double Polarity(const cv::Mat& gray, const Segment2d& s) {
   return sum;
 }
 
-cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::Mat& gray) {
+cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::Size& image) {
   cv::line_descriptor::KeyLine kl;
   const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]);
   const float ex = static_cast<float>(s[2]), ey = static_cast<float>(s[3]);
@@ -79,7 +81,7 @@ cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::M
   kl.angle = std::atan2(ey - sy, ex - sx);
   kl.pt = cv::Point2f(0.5f * (sx + ex), 0.5f * (sy + ey));
   kl.size = std::abs(ex - sx) * std::abs(ey - sy);
-  kl.response = kl.lineLength / static_cast<float>(std::max(gray.cols, gray.rows));
+  kl.response = kl.lineLength / static_cast<float>(std::max(image.width, image.height));
   kl.octave = 0;
   kl.class_id = id;
   return kl;
@@ -241,16 +243,44 @@ cv::Mat ComputeLineDescriptors(const cv::Mat& gray, const std::vector<Segment2d>
   }
   cv::Mat descriptors;
   if (prepared.empty()) return descriptors;
-  std::vector<cv::line_descriptor::KeyLine> keylines;
-  for (std::size_t i = 0; i < prepared.size(); ++i) {
-    keylines.push_back(MakeKeyLine(prepared[i], static_cast<int>(i), gray));
-  }
   cv::line_descriptor::BinaryDescriptor::Params params;
   params.numOfOctave_ = 1;
   params.widthOfBand_ = options.band_width;
   const cv::Ptr<cv::line_descriptor::BinaryDescriptor> lbd =
       cv::line_descriptor::BinaryDescriptor::createBinaryDescriptor(params);
-  lbd->compute(gray, keylines, descriptors);
+  // LBD reads bands of kLbdBands * band_width px across each segment (options.crop).
+  const int margin = (kLbdBands * options.band_width + 1) / 2 + kLbdFilterMarginPx;
+  const cv::Rect whole(0, 0, gray.cols, gray.rows);
+  std::vector<cv::Rect> crops;
+  double crop_area = 0.0;
+  for (const Segment2d& s : prepared) {
+    const int x0 = static_cast<int>(std::floor(std::min(s[0], s[2]))) - margin;
+    const int y0 = static_cast<int>(std::floor(std::min(s[1], s[3]))) - margin;
+    const int x1 = static_cast<int>(std::ceil(std::max(s[0], s[2]))) + margin + 1;
+    const int y1 = static_cast<int>(std::ceil(std::max(s[1], s[3]))) + margin + 1;
+    crops.push_back(cv::Rect(x0, y0, x1 - x0, y1 - y0) & whole);
+    crop_area += crops.back().area();
+  }
+  if (!options.crop || crop_area >= whole.area()) {
+    std::vector<cv::line_descriptor::KeyLine> keylines;
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      keylines.push_back(MakeKeyLine(prepared[i], static_cast<int>(i), gray.size()));
+    }
+    lbd->compute(gray, keylines, descriptors);
+  } else {
+    descriptors.create(static_cast<int>(prepared.size()), kDescriptorBytes, CV_8UC1);
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      const cv::Rect& r = crops[i];
+      const Segment2d s = prepared[i] - Eigen::Vector4d(r.x, r.y, r.x, r.y);
+      std::vector<cv::line_descriptor::KeyLine> keylines = {MakeKeyLine(s, 0, gray.size())};
+      cv::Mat row;
+      lbd->compute(gray(r), keylines, row);
+      if (row.rows != 1 || row.cols != kDescriptorBytes || row.type() != CV_8UC1) {
+        throw std::runtime_error("DescribeLines: unexpected LBD descriptor layout");
+      }
+      row.copyTo(descriptors.row(static_cast<int>(i)));
+    }
+  }
   if (descriptors.rows != static_cast<int>(prepared.size()) ||
       descriptors.cols != kDescriptorBytes || descriptors.type() != CV_8UC1) {
     throw std::runtime_error("DescribeLines: unexpected LBD descriptor layout");

@@ -41,6 +41,10 @@ struct LineDescriberOptions {
   double min_length_px = 15.0;  // shorter segments (after clipping) are not described
   double border_px = 2.0;       // segments are clipped to [border, size - 1 - border]
   int band_width = 7;           // LBD band width [px] (OpenCV default 7)
+  // LBD smooths and differentiates the whole image it is given: when the segments' bounding
+  // boxes, widened by the bands' reach, cover less than the image, each is described on its
+  // crop instead (the same descriptors; false: always the whole image).
+  bool crop = true;
 };
 
 // Segments with their descriptors, row i of `descriptors` (CV_8UC1, 32 bytes) for segments[i].

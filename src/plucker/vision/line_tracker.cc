@@ -27,8 +27,10 @@ LineTracker::LineTracker(const LineTrackerOptions& options) : options_(options) 
   if (options_.max_lost_frames < 0) {
     throw std::invalid_argument("LineTracker: max_lost_frames must be >= 0");
   }
-  if (options_.flow_samples > 0 && (options_.flow_window_px < 3 || options_.flow_levels < 0)) {
-    throw std::invalid_argument("LineTracker: flow_window_px must be >= 3 and flow_levels >= 0");
+  if (options_.flow_samples > 0 &&
+      (options_.flow_window_px < 3 || options_.flow_levels < 0 || options_.flow_iterations < 1)) {
+    throw std::invalid_argument(
+        "LineTracker: flow_window_px must be >= 3, flow_levels >= 0, flow_iterations >= 1");
   }
   const LineMatcherOptions& m = options_.match;
   if (m.max_hamming < 0 || !(m.ratio > 0 && m.ratio <= 1) || !(m.max_angle_deg > 0) ||
@@ -136,8 +138,8 @@ LinePredictions LineTracker::Predict(const std::vector<const TrackState*>& track
     }
   }
   std::vector<unsigned char> status;
-  PyramidFlow(previous_, pyramid, from, options_.flow_window_px, options_.flow_levels, &to,
-              &status);
+  PyramidFlow(previous_, pyramid, from, options_.flow_window_px, options_.flow_levels, &to, &status,
+              options_.flow_iterations);
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     for (int k = 0; k < n; ++k) {
       const std::size_t j = i * n + k;

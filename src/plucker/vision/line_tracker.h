@@ -39,6 +39,10 @@ struct LineTrackerOptions {
   int flow_samples = 5;      // points per segment followed by optical flow (0: no prediction gate)
   int flow_window_px = 15;
   int flow_levels = 3;
+  // Gauss-Newton steps per level of the flow. Points on an edge converge across it in a few
+  // steps; along it the flow is undefined and would use all 30 of OpenCV's default, for a
+  // component the prediction gate does not use.
+  int flow_iterations = 8;
   // A track and a segment that are each other's only candidate under every gate, the flow
   // prediction included, are matched without descriptors (the Hamming distance is not checked);
   // LBD descriptors are computed only for the tracks and segments with several candidates. A
