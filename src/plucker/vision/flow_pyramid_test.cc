@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -15,21 +14,10 @@ namespace plucker {
 namespace vision {
 namespace {
 
-cv::Mat Blobs(int width, int height, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> x(0, width - 1), y(0, height - 1), r(3, 10), g(0, 255);
-  cv::Mat image(height, width, CV_8UC1, cv::Scalar(128));
-  for (int i = 0; i < width * height / 120; ++i) {
-    cv::circle(image, cv::Point(x(rng), y(rng)), r(rng), cv::Scalar(g(rng)), -1, cv::LINE_AA);
-  }
-  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.8);
-  return image;
-}
-
 // Flow on pyramids built once (with a larger window and more levels than the flow uses) equals
 // OpenCV's flow on the two images, in both directions, and follows the known shift.
 TEST(FlowPyramid, SameFlowAsOnTheImages) {
-  const cv::Mat a = Blobs(320, 240, 3);
+  const cv::Mat a = testing::Texture(320, 240, 3);
   const cv::Mat b = testing::Shifted(a, 3.4, -2.2);
   std::vector<cv::Point2f> points;
   cv::goodFeaturesToTrack(a, points, 150, 0.01, 10);
@@ -69,12 +57,12 @@ TEST(FlowPyramid, SameFlowAsOnTheImages) {
 }
 
 TEST(FlowPyramid, BadInput) {
-  const cv::Mat a = Blobs(160, 120, 1);
+  const cv::Mat a = testing::Texture(160, 120, 1);
   EXPECT_THROW(FlowPyramid(cv::Mat(), 11, 3), std::invalid_argument);
   EXPECT_THROW(FlowPyramid(cv::Mat(10, 10, CV_32F), 11, 3), std::invalid_argument);
   EXPECT_THROW(FlowPyramid(a, 2, 3), std::invalid_argument);
   EXPECT_THROW(FlowPyramid(a, 11, -1), std::invalid_argument);
-  const FlowPyramid p(a, 11, 3), q(Blobs(200, 120, 2), 11, 3);
+  const FlowPyramid p(a, 11, 3), q(testing::Texture(200, 120, 2), 11, 3);
   std::vector<cv::Point2f> moved;
   std::vector<unsigned char> status;
   const std::vector<cv::Point2f> points = {{50.f, 50.f}};

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -49,6 +50,27 @@ cv::Mat Scene(int width, int height, unsigned seed) {
 }
 
 using testing::Shifted;
+
+fs::path KittiClipDir() { return fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip"; }
+
+struct KittiClip {
+  io::ImageFolder folder;
+  PinholeIntrinsics K;
+  io::Trajectory gt;
+};
+
+// The shared KITTI clip's images, pinhole and ground truth; nullopt when the data is absent.
+std::optional<KittiClip> OpenKittiClip() {
+  const fs::path data = KittiClipDir();
+  if (!fs::exists(data / "poses.txt")) return std::nullopt;
+  KittiClip c;
+  c.folder = io::OpenImageFolder((data / "image_0").string());
+  c.K = io::ReadKittiCalibration((data / "calib.txt").string(), c.folder.size.width,
+                                 c.folder.size.height)
+            .camera.K;
+  c.gt = io::ReadTrajectory((data / "poses.txt").string());
+  return c;
+}
 
 double LineDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& s, const Eigen::Vector2d& e) {
   const Eigen::Vector2d d = (e - s).normalized();
@@ -116,13 +138,11 @@ TEST(LineTracker, BadInput) {
 // The first frames of the real KITTI clip: tracks of 3+ views against the ground-truth poses
 // (the whole clip: `plucker lines track`, README).
 TEST(LineTracker, RealKittiClipFirstFrames) {
-  const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
-  if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
-  const io::ImageFolder folder = io::OpenImageFolder((data / "image_0").string());
-  const PinholeIntrinsics K =
-      io::ReadKittiCalibration((data / "calib.txt").string(), folder.size.width, folder.size.height)
-          .camera.K;
-  const io::Trajectory gt = io::ReadTrajectory((data / "poses.txt").string());
+  const std::optional<KittiClip> clip = OpenKittiClip();
+  if (!clip) GTEST_SKIP() << "shared data absent: " << KittiClipDir();
+  const io::ImageFolder& folder = clip->folder;
+  const PinholeIntrinsics& K = clip->K;
+  const io::Trajectory& gt = clip->gt;
   const int frames = 6;
   PointTracker points(PointTrackerOptions{}, K);
   LineTracker lines;
@@ -178,13 +198,11 @@ TEST(LineTracker, RealKittiClipFirstFrames) {
 // unique flow-gated pairs skip LBD, which is then computed for a fraction of the segments, and
 // the tracks stay as precise.
 TEST(LineTracker, FlowFirstDescribesFewerSegmentsOnTheKittiClip) {
-  const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
-  if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
-  const io::ImageFolder folder = io::OpenImageFolder((data / "image_0").string());
-  const PinholeIntrinsics K =
-      io::ReadKittiCalibration((data / "calib.txt").string(), folder.size.width, folder.size.height)
-          .camera.K;
-  const io::Trajectory gt = io::ReadTrajectory((data / "poses.txt").string());
+  const std::optional<KittiClip> clip = OpenKittiClip();
+  if (!clip) GTEST_SKIP() << "shared data absent: " << KittiClipDir();
+  const io::ImageFolder& folder = clip->folder;
+  const PinholeIntrinsics& K = clip->K;
+  const io::Trajectory& gt = clip->gt;
   std::vector<cv::Mat> images;
   std::vector<std::vector<Segment2d>> segments;
   for (int f = 0; f < 4; ++f) {  // the 80 longest segments (apps keep the 60 longest)

@@ -23,19 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A textured image: random filled circles of random grey on a mid-grey background, blurred.
-cv::Mat Texture(int width, int height, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> x(0, width - 1), y(0, height - 1), r(3, 12), g(0, 255);
-  cv::Mat image(height, width, CV_8UC1, cv::Scalar(128));
-  for (int i = 0; i < width * height / 150; ++i) {
-    cv::circle(image, cv::Point(x(rng), y(rng)), r(rng), cv::Scalar(g(rng)), -1, cv::LINE_AA);
-  }
-  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.8);
-  return image;
-}
-
 using testing::Shifted;
+using testing::Texture;
 
 TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
   const cv::Mat base = Texture(320, 240, 7);
