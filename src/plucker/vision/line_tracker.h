@@ -37,7 +37,7 @@ struct LineTrackerOptions {
   LineMatcherOptions match;  // frame to frame
   int max_lost_frames = 2;   // a track may skip this many frames and be re-associated
   int flow_samples = 5;      // points per segment followed by optical flow (0: no prediction gate)
-  int flow_window_px = 15;
+  int flow_window_px = 11;   // 15 before: MH05 clip, docs/results/frontend-speed.md
   int flow_levels = 3;
   // Gauss-Newton steps per level of the flow. Points on an edge converge across it in a few
   // steps; along it the flow is undefined and would use all 30 of OpenCV's default, for a
