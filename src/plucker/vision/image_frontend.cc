@@ -8,6 +8,11 @@
 
 namespace plucker {
 namespace vision {
+namespace {
+
+constexpr int kMinEpipolarTracks = 15;  // as FundamentalFromPointTracks' min_points
+
+}  // namespace
 
 ImageFrontend::ImageFrontend(const PinholeIntrinsics& K, const ImageFrontendOptions& options)
     : K_(K), options_(options), point_tracker_(options.points, K), line_tracker_(options.lines) {
@@ -23,7 +28,14 @@ ImageFrontendFrame ImageFrontend::Process(const cv::Mat& gray, const FrontendObs
   };
   ImageFrontendFrame out;
   announce(FrontendStage::kPoints);
-  PointTrackerFrame points = point_tracker_.Track(gray);
+  if (gray.empty() || gray.type() != CV_8UC1) {
+    throw std::invalid_argument("ImageFrontend: the image must be non-empty 8-bit grayscale");
+  }
+  // One pyramid per image for the point tracker's flow (both ways) and the line tracker's.
+  const FlowPyramid pyramid(gray,
+                            std::max(options_.points.window_px, options_.lines.flow_window_px),
+                            std::max(options_.points.pyramid_levels, options_.lines.flow_levels));
+  PointTrackerFrame points = point_tracker_.Track(pyramid);
   out.points = std::move(points.observations);
   out.point_stats = points.stats;
   if (options_.use_lines) {
@@ -47,14 +59,14 @@ ImageFrontendFrame ImageFrontend::Process(const cv::Mat& gray, const FrontendObs
     }
     out.detection_stats = detection.stats;
     announce(FrontendStage::kLines);
+    // The epipolar gate from the point tracker's own RANSAC model of this frame pair (the one
+    // FundamentalFromPointTracks would estimate again from the same tracks).
     const std::optional<Eigen::Matrix3d> F_cur_prev =
-        previous_points_.empty() ? std::nullopt
-                                 : FundamentalFromPointTracks(previous_points_, out.points, K_);
-    LineTrackerFrame lines = line_tracker_.Track(gray, segments, F_cur_prev);
+        points.stats.ransac_inliers >= kMinEpipolarTracks ? points.F_cur_prev : std::nullopt;
+    LineTrackerFrame lines = line_tracker_.Track(pyramid, segments, F_cur_prev);
     out.segments = std::move(lines.observations);
     out.line_stats = lines.stats;
   }
-  previous_points_ = out.points;
   announce(FrontendStage::kDone);
   return out;
 }

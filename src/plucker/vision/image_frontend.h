@@ -2,8 +2,9 @@
 // image of a sequence,
 //   1. points:   KLT point tracks with epipolar RANSAC (point_tracker.h);
 //   2. segments: line segments (line_detector.h), those shorter than min_segment_px dropped;
-//   3. lines:    segment tracks (line_tracker.h), gated by the epipolar geometry estimated from
-//                the point tracks of this frame and the previous one.
+//   3. lines:    segment tracks (line_tracker.h), gated by the epipolar geometry the point
+//                tracker's RANSAC estimated between this frame and the previous one.
+// Each image's flow pyramid (flow_pyramid.h) is built once and used by both trackers.
 // Output: the frame's observations with track ids (sensor/camera_observations.h), the form the
 // estimators take from the simulator or a features folder alike. No I/O, no timing: the stages
 // are announced to an observer so that the caller can time them.
@@ -63,7 +64,6 @@ class ImageFrontend {
   ImageFrontendOptions options_;
   PointTracker point_tracker_;
   LineTracker line_tracker_;
-  std::vector<sensor::PointObservation> previous_points_;
 };
 
 }  // namespace vision

@@ -14,6 +14,8 @@ namespace vision {
 namespace {
 
 constexpr int kDescriptorBytes = 32;
+constexpr int kLbdBands = 9;           // the bands of OpenCV's LBD (fixed in its implementation)
+constexpr int kLbdFilterMarginPx = 8;  // its 5x5 Gaussian and 3x3 Sobel, with room to spare
 
 // Liang-Barsky clip of s to [lo, hi] in both coordinates; false when nothing is left.
 bool Clip(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Segment2d* s) {
@@ -66,7 +68,7 @@ double Polarity(const cv::Mat& gray, const Segment2d& s) {
   return sum;
 }
 
-cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::Mat& gray) {
+cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::Size& image) {
   cv::line_descriptor::KeyLine kl;
   const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]);
   const float ex = static_cast<float>(s[2]), ey = static_cast<float>(s[3]);
@@ -79,7 +81,7 @@ cv::line_descriptor::KeyLine MakeKeyLine(const Segment2d& s, int id, const cv::M
   kl.angle = std::atan2(ey - sy, ex - sx);
   kl.pt = cv::Point2f(0.5f * (sx + ex), 0.5f * (sy + ey));
   kl.size = std::abs(ex - sx) * std::abs(ey - sy);
-  kl.response = kl.lineLength / static_cast<float>(std::max(gray.cols, gray.rows));
+  kl.response = kl.lineLength / static_cast<float>(std::max(image.width, image.height));
   kl.octave = 0;
   kl.class_id = id;
   return kl;
@@ -201,8 +203,8 @@ Gate GatePair(const SegmentGeometry& a, const SegmentGeometry& b, const LineMatc
 
 }  // namespace
 
-LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
-                           const LineDescriberOptions& options, LineDescriptionStats* stats) {
+LineFeatures PrepareLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                          const LineDescriberOptions& options, LineDescriptionStats* stats) {
   if (gray.empty() || gray.type() != CV_8UC1) {
     throw std::invalid_argument("DescribeLines: the image must be non-empty 8-bit grayscale");
   }
@@ -216,7 +218,6 @@ LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& se
   LineFeatures out;
   const Eigen::Vector2d lo(options.border_px, options.border_px);
   const Eigen::Vector2d hi(gray.cols - 1 - options.border_px, gray.rows - 1 - options.border_px);
-  std::vector<cv::line_descriptor::KeyLine> keylines;
   for (std::size_t i = 0; i < segments.size(); ++i) {
     Segment2d s = segments[i];
     if (!s.allFinite() || !(hi.x() > lo.x() && hi.y() > lo.y()) || !Clip(lo, hi, &s) ||
@@ -228,22 +229,69 @@ LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& se
       s = Segment2d(s[2], s[3], s[0], s[1]);
       ++st.flipped;
     }
-    keylines.push_back(MakeKeyLine(s, static_cast<int>(out.segments.size()), gray));
     out.segments.push_back(s);
     out.source_index.push_back(static_cast<int>(i));
   }
   st.described = out.size();
-  if (keylines.empty()) return out;
+  return out;
+}
+
+cv::Mat ComputeLineDescriptors(const cv::Mat& gray, const std::vector<Segment2d>& prepared,
+                               const LineDescriberOptions& options) {
+  if (gray.empty() || gray.type() != CV_8UC1 || options.band_width < 1) {
+    throw std::invalid_argument("ComputeLineDescriptors: invalid image or options");
+  }
+  cv::Mat descriptors;
+  if (prepared.empty()) return descriptors;
   cv::line_descriptor::BinaryDescriptor::Params params;
   params.numOfOctave_ = 1;
   params.widthOfBand_ = options.band_width;
   const cv::Ptr<cv::line_descriptor::BinaryDescriptor> lbd =
       cv::line_descriptor::BinaryDescriptor::createBinaryDescriptor(params);
-  lbd->compute(gray, keylines, out.descriptors);
-  if (out.descriptors.rows != out.size() || out.descriptors.cols != kDescriptorBytes ||
-      out.descriptors.type() != CV_8UC1) {
+  // LBD reads bands of kLbdBands * band_width px across each segment (options.crop).
+  const int margin = (kLbdBands * options.band_width + 1) / 2 + kLbdFilterMarginPx;
+  const cv::Rect whole(0, 0, gray.cols, gray.rows);
+  std::vector<cv::Rect> crops;
+  double crop_area = 0.0;
+  for (const Segment2d& s : prepared) {
+    const int x0 = static_cast<int>(std::floor(std::min(s[0], s[2]))) - margin;
+    const int y0 = static_cast<int>(std::floor(std::min(s[1], s[3]))) - margin;
+    const int x1 = static_cast<int>(std::ceil(std::max(s[0], s[2]))) + margin + 1;
+    const int y1 = static_cast<int>(std::ceil(std::max(s[1], s[3]))) + margin + 1;
+    crops.push_back(cv::Rect(x0, y0, x1 - x0, y1 - y0) & whole);
+    crop_area += crops.back().area();
+  }
+  if (!options.crop || crop_area >= whole.area()) {
+    std::vector<cv::line_descriptor::KeyLine> keylines;
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      keylines.push_back(MakeKeyLine(prepared[i], static_cast<int>(i), gray.size()));
+    }
+    lbd->compute(gray, keylines, descriptors);
+  } else {
+    descriptors.create(static_cast<int>(prepared.size()), kDescriptorBytes, CV_8UC1);
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      const cv::Rect& r = crops[i];
+      const Segment2d s = prepared[i] - Eigen::Vector4d(r.x, r.y, r.x, r.y);
+      std::vector<cv::line_descriptor::KeyLine> keylines = {MakeKeyLine(s, 0, gray.size())};
+      cv::Mat row;
+      lbd->compute(gray(r), keylines, row);
+      if (row.rows != 1 || row.cols != kDescriptorBytes || row.type() != CV_8UC1) {
+        throw std::runtime_error("DescribeLines: unexpected LBD descriptor layout");
+      }
+      row.copyTo(descriptors.row(static_cast<int>(i)));
+    }
+  }
+  if (descriptors.rows != static_cast<int>(prepared.size()) ||
+      descriptors.cols != kDescriptorBytes || descriptors.type() != CV_8UC1) {
     throw std::runtime_error("DescribeLines: unexpected LBD descriptor layout");
   }
+  return descriptors;
+}
+
+LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                           const LineDescriberOptions& options, LineDescriptionStats* stats) {
+  LineFeatures out = PrepareLines(gray, segments, options, stats);
+  out.descriptors = ComputeLineDescriptors(gray, out.segments, options);
   return out;
 }
 
@@ -267,24 +315,21 @@ std::optional<double> EpipolarOverlap(const Segment2d& a, const Segment2d& b,
   return OverlapOfEpipolarLines(l, Geometry(b), std::sin(min_angle_deg * M_PI / 180.0));
 }
 
-LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
-                           const LineMatcherOptions& o, const std::optional<Eigen::Matrix3d>& F_b_a,
-                           const LinePredictions* predicted) {
+std::vector<GatedPair> GateLinePairs(const LineFeatures& a, const LineFeatures& b,
+                                     const LineMatcherOptions& o,
+                                     const std::optional<Eigen::Matrix3d>& F_b_a,
+                                     const LinePredictions* predicted, LineMatchStats* stats) {
   if (predicted && static_cast<int>(predicted->size()) != a.size()) {
     throw std::invalid_argument("MatchLines: one prediction list per segment of a expected");
   }
-  LineMatchResult result;
-  LineMatchStats& st = result.stats;
+  LineMatchStats local;
+  LineMatchStats& st = stats ? *stats : local;
+  st = LineMatchStats{};
   st.a = a.size();
   st.b = b.size();
   st.pairs = static_cast<long>(st.a) * st.b;
-  if (st.a == 0 || st.b == 0) {
-    st.no_candidate = st.a;
-    return result;
-  }
-  // Distances of the gated pairs (-1: gated out) and their epipolar overlaps.
-  std::vector<int> dist(static_cast<std::size_t>(st.pairs), -1);
-  std::vector<double> overlaps(dist.size(), -1.0);
+  std::vector<GatedPair> out;
+  if (st.a == 0 || st.b == 0) return out;
   const GateConstants constants = Constants(o);
   std::vector<SegmentGeometry> geometry_b(st.b);
   for (int j = 0; j < st.b; ++j) geometry_b[j] = Geometry(b.segments[j]);
@@ -319,10 +364,29 @@ LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
           break;
       }
       ++st.gated;
-      const std::size_t k = static_cast<std::size_t>(i) * st.b + j;
-      dist[k] = HammingDistance(a.descriptors, i, b.descriptors, j);
-      overlaps[k] = overlap;
+      out.push_back({i, j, overlap});
     }
+  }
+  return out;
+}
+
+LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
+                           const LineMatcherOptions& o, const std::optional<Eigen::Matrix3d>& F_b_a,
+                           const LinePredictions* predicted) {
+  LineMatchResult result;
+  LineMatchStats& st = result.stats;
+  const std::vector<GatedPair> gated = GateLinePairs(a, b, o, F_b_a, predicted, &st);
+  if (st.a == 0 || st.b == 0) {
+    st.no_candidate = st.a;
+    return result;
+  }
+  // Distances of the gated pairs (-1: gated out) and their epipolar overlaps.
+  std::vector<int> dist(static_cast<std::size_t>(st.pairs), -1);
+  std::vector<double> overlaps(dist.size(), -1.0);
+  for (const GatedPair& g : gated) {
+    const std::size_t k = static_cast<std::size_t>(g.a) * st.b + g.b;
+    dist[k] = HammingDistance(a.descriptors, g.a, b.descriptors, g.b);
+    overlaps[k] = g.overlap;
   }
   // Best a for every b (for the mutual test and for uniqueness).
   std::vector<int> best_a(st.b, -1), best_a_dist(st.b, std::numeric_limits<int>::max());

@@ -41,6 +41,10 @@ struct LineDescriberOptions {
   double min_length_px = 15.0;  // shorter segments (after clipping) are not described
   double border_px = 2.0;       // segments are clipped to [border, size - 1 - border]
   int band_width = 7;           // LBD band width [px] (OpenCV default 7)
+  // LBD smooths and differentiates the whole image it is given: when the segments' bounding
+  // boxes, widened by the bands' reach, cover less than the image, each is described on its
+  // crop instead (the same descriptors; false: always the whole image).
+  bool crop = true;
 };
 
 // Segments with their descriptors, row i of `descriptors` (CV_8UC1, 32 bytes) for segments[i].
@@ -62,6 +66,16 @@ struct LineDescriptionStats {
 LineFeatures DescribeLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
                            const LineDescriberOptions& options = {},
                            LineDescriptionStats* stats = nullptr);
+
+// The two steps of DescribeLines, for callers that describe only some segments (line_tracker.h):
+// PrepareLines clips and orients (descriptors left empty; the same segments and stats as
+// DescribeLines), ComputeLineDescriptors gives the LBD rows of prepared segments (row i for
+// prepared[i]; a segment's descriptor does not depend on the others in the list).
+LineFeatures PrepareLines(const cv::Mat& gray, const std::vector<Segment2d>& segments,
+                          const LineDescriberOptions& options = {},
+                          LineDescriptionStats* stats = nullptr);
+cv::Mat ComputeLineDescriptors(const cv::Mat& gray, const std::vector<Segment2d>& prepared,
+                               const LineDescriberOptions& options = {});
 
 struct LineMatcherOptions {
   int max_hamming = 50;         // of 256 bits
@@ -119,6 +133,18 @@ LineMatchResult MatchLines(const LineFeatures& a, const LineFeatures& b,
                            const LineMatcherOptions& options = {},
                            const std::optional<Eigen::Matrix3d>& F_b_a = std::nullopt,
                            const LinePredictions* predicted = nullptr);
+
+// Step 1 of MatchLines alone (no descriptors needed): the pairs that pass every geometric gate,
+// in the order (a, b); stats gets the counts up to `gated`.
+struct GatedPair {
+  int a = -1, b = -1;
+  double overlap = -1;  // as LineMatch::overlap
+};
+std::vector<GatedPair> GateLinePairs(const LineFeatures& a, const LineFeatures& b,
+                                     const LineMatcherOptions& options = {},
+                                     const std::optional<Eigen::Matrix3d>& F_b_a = std::nullopt,
+                                     const LinePredictions* predicted = nullptr,
+                                     LineMatchStats* stats = nullptr);
 
 // Overlap of segment b with the interval the epipolar lines of a's endpoints cut on b's line,
 // relative to the shorter of the two, in [0, 1]; nullopt when b is within min_angle_deg of an

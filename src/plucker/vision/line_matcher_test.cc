@@ -93,6 +93,33 @@ TEST(LineMatcher, ShiftedImageMatchesItsOwnEdges) {
   }
 }
 
+// Few segments are described on crops of the image around them: the descriptors are those of
+// the whole image, bit for bit (segments in the middle and at the borders); PrepareLines with
+// ComputeLineDescriptors is DescribeLines.
+TEST(LineMatcher, DescriptorsOnCropsEqualTheWholeImage) {
+  const cv::Mat image = Scene(400, 300, 5);
+  const std::vector<Segment2d> segments = DetectLineSegments(image).segments;
+  ASSERT_GT(segments.size(), 12u);
+  LineDescriberOptions whole;
+  whole.crop = false;
+  const LineFeatures all = DescribeLines(image, segments, whole);
+  const LineFeatures prepared = PrepareLines(image, segments);
+  ASSERT_EQ(prepared.segments, all.segments);
+  EXPECT_TRUE(prepared.descriptors.empty());
+  const cv::Mat again = ComputeLineDescriptors(image, prepared.segments, whole);
+  EXPECT_EQ(cv::norm(again, all.descriptors, cv::NORM_HAMMING), 0.0);
+  std::vector<Segment2d> few = {Segment2d(2, 2, 60, 2), Segment2d(397, 10, 397, 290),
+                                Segment2d(150, 297, 260, 280)};
+  for (int i = 0; i < 3; ++i) few.push_back(all.segments[i * 4]);
+  const LineFeatures few_prepared = PrepareLines(image, few);
+  ASSERT_EQ(few_prepared.size(), 6);
+  const cv::Mat on_crops = ComputeLineDescriptors(image, few_prepared.segments);
+  const cv::Mat on_whole = ComputeLineDescriptors(image, few_prepared.segments, whole);
+  for (int i = 0; i < few_prepared.size(); ++i) {
+    EXPECT_EQ(HammingDistance(on_whole, i, on_crops, i), 0) << "segment " << i;
+  }
+}
+
 TEST(LineMatcher, OrientationByPolarityAndClipping) {
   cv::Mat image(100, 120, CV_8UC1, cv::Scalar(40));
   image(cv::Rect(0, 0, 60, 100)).setTo(200);  // bright left half: a vertical edge at x = 59.5

@@ -8,7 +8,8 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/video/tracking.hpp>
+
+#include "plucker/vision/point_tracker.h"
 
 namespace plucker {
 namespace vision {
@@ -26,6 +27,11 @@ LineTracker::LineTracker(const LineTrackerOptions& options) : options_(options) 
   if (options_.max_lost_frames < 0) {
     throw std::invalid_argument("LineTracker: max_lost_frames must be >= 0");
   }
+  if (options_.flow_samples > 0 &&
+      (options_.flow_window_px < 3 || options_.flow_levels < 0 || options_.flow_iterations < 1)) {
+    throw std::invalid_argument(
+        "LineTracker: flow_window_px must be >= 3, flow_levels >= 0, flow_iterations >= 1");
+  }
   const LineMatcherOptions& m = options_.match;
   if (m.max_hamming < 0 || !(m.ratio > 0 && m.ratio <= 1) || !(m.max_angle_deg > 0) ||
       !(m.max_length_ratio >= 1) || !(m.min_epipolar_overlap >= 0 && m.min_epipolar_overlap <= 1)) {
@@ -33,21 +39,96 @@ LineTracker::LineTracker(const LineTrackerOptions& options) : options_(options) 
   }
 }
 
-LineFeatures LineTracker::Features(const std::vector<const TrackState*>& tracks) {
-  LineFeatures f;
-  for (const TrackState* t : tracks) {
-    f.segments.push_back(t->segment);
-    f.source_index.push_back(t->id);
-    f.descriptors.push_back(t->descriptor);
+void LineTracker::DescribeTracks(const std::vector<int>& track_index, LineTrackerStats* st) {
+  for (const auto& [frame, image] : images_) {
+    std::vector<int> todo;
+    std::vector<Segment2d> segments;
+    for (const int k : track_index) {
+      TrackState& t = tracks_[k];
+      if (t.descriptor_frame == t.last_frame || t.last_frame != frame) continue;
+      todo.push_back(k);
+      segments.push_back(t.observed);
+    }
+    if (todo.empty()) continue;
+    const cv::Mat d = ComputeLineDescriptors(image, segments, options_.describe);
+    st->lbd_described += static_cast<int>(todo.size());
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      tracks_[todo[i]].descriptor = d.row(static_cast<int>(i)).clone();
+      tracks_[todo[i]].descriptor_frame = frame;
+    }
   }
-  return f;
+}
+
+std::vector<LineMatch> LineTracker::Associate(const std::vector<int>& candidate_index,
+                                              const LinePredictions& predictions,
+                                              const cv::Mat& gray, const LineFeatures& current,
+                                              const std::optional<Eigen::Matrix3d>& F_cur_prev,
+                                              std::vector<cv::Mat>* current_descriptors,
+                                              LineTrackerStats* st) {
+  const bool use_flow = options_.flow_samples > 0;
+  LineFeatures tracks;
+  for (const int k : candidate_index) tracks.segments.push_back(tracks_[k].segment);
+  const std::vector<GatedPair> gated = GateLinePairs(tracks, current, options_.match, F_cur_prev,
+                                                     use_flow ? &predictions : nullptr, &st->match);
+  std::vector<int> degree_a(tracks.size(), 0), degree_b(current.size(), 0);
+  for (const GatedPair& g : gated) ++degree_a[g.a], ++degree_b[g.b];
+  std::vector<LineMatch> matches;
+  std::vector<int> sub_a, sub_b;  // with several candidates: matched by descriptors
+  std::vector<bool> clean_a(tracks.size(), false), clean_b(current.size(), false);
+  for (const GatedPair& g : gated) {
+    if (options_.flow_first && use_flow && !predictions[g.a].empty() && degree_a[g.a] == 1 &&
+        degree_b[g.b] == 1) {
+      clean_a[g.a] = clean_b[g.b] = true;
+      matches.push_back({g.a, g.b, -1, g.overlap});
+      ++st->flow_matched;
+    }
+  }
+  for (int i = 0; i < tracks.size(); ++i) {
+    if (degree_a[i] == 0) ++st->match.no_candidate;
+    if (degree_a[i] > 0 && !clean_a[i]) sub_a.push_back(i);
+  }
+  for (int j = 0; j < current.size(); ++j) {
+    if (degree_b[j] > 0 && !clean_b[j]) sub_b.push_back(j);
+  }
+  if (!sub_a.empty()) {
+    std::vector<int> track_index;
+    for (const int i : sub_a) track_index.push_back(candidate_index[i]);
+    DescribeTracks(track_index, st);
+    LineFeatures a, b;
+    LinePredictions sub_predictions;
+    for (const int i : sub_a) {
+      if (tracks_[candidate_index[i]].descriptor_frame != tracks_[candidate_index[i]].last_frame) {
+        throw std::logic_error("LineTracker: no image kept for a track's latest observation");
+      }
+      a.segments.push_back(tracks.segments[i]);
+      a.descriptors.push_back(tracks_[candidate_index[i]].descriptor);
+      sub_predictions.push_back(predictions[i]);
+    }
+    for (const int j : sub_b) b.segments.push_back(current.segments[j]);
+    b.descriptors = ComputeLineDescriptors(gray, b.segments, options_.describe);
+    st->lbd_described += b.size();
+    current_descriptors->assign(current.size(), cv::Mat());
+    for (int r = 0; r < b.size(); ++r) (*current_descriptors)[sub_b[r]] = b.descriptors.row(r);
+    const LineMatchResult r =
+        MatchLines(a, b, options_.match, F_cur_prev, use_flow ? &sub_predictions : nullptr);
+    st->match.no_candidate += r.stats.no_candidate;
+    st->match.rejected_hamming += r.stats.rejected_hamming;
+    st->match.rejected_ratio += r.stats.rejected_ratio;
+    st->match.rejected_mutual += r.stats.rejected_mutual;
+    for (const LineMatch& m : r.matches)
+      matches.push_back({sub_a[m.a], sub_b[m.b], m.distance, m.overlap});
+  }
+  std::sort(matches.begin(), matches.end(),
+            [](const LineMatch& x, const LineMatch& y) { return x.a < y.a; });
+  st->match.matches = static_cast<int>(matches.size());
+  return matches;
 }
 
 LinePredictions LineTracker::Predict(const std::vector<const TrackState*>& tracks,
-                                     const cv::Mat& gray, int* predicted) const {
+                                     const FlowPyramid& pyramid, int* predicted) const {
   LinePredictions out(tracks.size());
   const int n = options_.flow_samples;
-  if (n <= 0 || tracks.empty() || previous_.empty()) return out;
+  if (n <= 0 || tracks.empty() || previous_.empty() || pyramid.empty()) return out;
   std::vector<cv::Point2f> from, to;
   for (const TrackState* t : tracks) {
     for (int k = 0; k < n; ++k) {
@@ -57,9 +138,8 @@ LinePredictions LineTracker::Predict(const std::vector<const TrackState*>& track
     }
   }
   std::vector<unsigned char> status;
-  std::vector<float> error;
-  const cv::Size window(options_.flow_window_px, options_.flow_window_px);
-  cv::calcOpticalFlowPyrLK(previous_, gray, from, to, status, error, window, options_.flow_levels);
+  PyramidFlow(previous_, pyramid, from, options_.flow_window_px, options_.flow_levels, &to, &status,
+              options_.flow_iterations);
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     for (int k = 0; k < n; ++k) {
       const std::size_t j = i * n + k;
@@ -79,6 +159,30 @@ LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segme
   if (gray.empty() || gray.type() != CV_8UC1) {
     throw std::invalid_argument("LineTracker: the image must be non-empty 8-bit grayscale");
   }
+  const FlowPyramid pyramid = options_.flow_samples > 0
+                                  ? FlowPyramid(gray, options_.flow_window_px, options_.flow_levels)
+                                  : FlowPyramid();
+  return TrackImpl(gray, pyramid, segments, F_cur_prev);
+}
+
+LineTrackerFrame LineTracker::Track(const FlowPyramid& pyramid,
+                                    const std::vector<Segment2d>& segments,
+                                    const std::optional<Eigen::Matrix3d>& F_cur_prev) {
+  if (pyramid.empty()) throw std::invalid_argument("LineTracker: empty pyramid");
+  if (options_.flow_samples > 0 && pyramid.window_px() < options_.flow_window_px) {
+    throw std::invalid_argument("LineTracker: pyramid built for a window of " +
+                                std::to_string(pyramid.window_px()) + " px < flow_window_px " +
+                                std::to_string(options_.flow_window_px));
+  }
+  return TrackImpl(pyramid.image(), pyramid, segments, F_cur_prev);
+}
+
+LineTrackerFrame LineTracker::TrackImpl(const cv::Mat& gray, const FlowPyramid& pyramid,
+                                        const std::vector<Segment2d>& segments,
+                                        const std::optional<Eigen::Matrix3d>& F_cur_prev) {
+  if (gray.empty() || gray.type() != CV_8UC1) {
+    throw std::invalid_argument("LineTracker: the image must be non-empty 8-bit grayscale");
+  }
   if (frame_ > 0 && gray.size() != size_) {
     throw std::invalid_argument("LineTracker: image of " + std::to_string(gray.cols) + "x" +
                                 std::to_string(gray.rows) + " after " +
@@ -89,8 +193,7 @@ LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segme
   out.frame = frame_++;
   LineTrackerStats& st = out.stats;
   st.epipolar_gate = F_cur_prev.has_value();
-  const LineFeatures current = DescribeLines(gray, segments, options_.describe, &st.description);
-  const bool use_flow = options_.flow_samples > 0;
+  const LineFeatures current = PrepareLines(gray, segments, options_.describe, &st.description);
   std::vector<int> track_of(current.size(), -1);  // index into tracks_ for each segment
 
   // 2.-3. Every live track (seen in the previous frame, or lost for up to max_lost_frames frames
@@ -100,22 +203,20 @@ LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segme
     for (const TrackState& t : tracks_) v.push_back(&t);
     return v;
   }();
-  LinePredictions all_predictions = Predict(all, gray, &st.predicted);
-  std::vector<const TrackState*> candidates;
+  LinePredictions all_predictions = Predict(all, pyramid, &st.predicted);
   std::vector<int> candidate_index;
   LinePredictions predictions;
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     // A lost track has no last observation in the previous frame: without a flow prediction no
     // gate would tie it to its place, so it is not matched (and ends below).
     if (tracks_[k].last_frame != out.frame - 1 && all_predictions[k].empty()) continue;
-    candidates.push_back(&tracks_[k]);
     candidate_index.push_back(static_cast<int>(k));
     predictions.push_back(all_predictions[k]);
   }
-  const LineMatchResult match = MatchLines(Features(candidates), current, options_.match,
-                                           F_cur_prev, use_flow ? &predictions : nullptr);
-  st.match = match.stats;
-  for (const LineMatch& m : match.matches) {
+  std::vector<cv::Mat> descriptors;  // of the current segments that needed one (others: empty)
+  const std::vector<LineMatch> matches =
+      Associate(candidate_index, predictions, gray, current, F_cur_prev, &descriptors, &st);
+  for (const LineMatch& m : matches) {
     const int k = candidate_index[m.a];
     track_of[m.b] = k;
     ++(tracks_[k].last_frame == out.frame - 1 ? st.continued : st.reassociated);
@@ -148,8 +249,11 @@ LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segme
     }
     TrackState& t = tracks_[track_of[j]];
     t.last_frame = out.frame;
-    t.segment = current.segments[j];
-    t.descriptor = current.descriptors.row(j).clone();
+    t.segment = t.observed = current.segments[j];
+    if (j < static_cast<int>(descriptors.size()) && !descriptors[j].empty()) {
+      t.descriptor = descriptors[j].clone();
+      t.descriptor_frame = out.frame;
+    }
     sensor::SegmentObservation o;
     o.frame = out.frame;
     o.line_id = t.id;
@@ -164,7 +268,11 @@ LineTrackerFrame LineTracker::Track(const cv::Mat& gray, const std::vector<Segme
                                }),
                 tracks_.end());
   st.ended = static_cast<int>(before - tracks_.size());
-  previous_ = gray.clone();
+  previous_ = pyramid;
+  images_.emplace_back(out.frame, pyramid.empty() ? gray.clone() : pyramid.image());
+  while (!images_.empty() && images_.front().first < out.frame - options_.max_lost_frames) {
+    images_.erase(images_.begin());
+  }
   return out;
 }
 
@@ -189,17 +297,7 @@ std::optional<Eigen::Matrix3d> FundamentalFromPointTracks(
   } else {
     model = cv::findFundamentalMat(p0, p1, cv::FM_RANSAC, threshold_px, 0.999);
   }
-  if (model.rows != 3 || model.cols != 3) return std::nullopt;  // none, or several solutions
-  Eigen::Matrix3d M;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) M(r, c) = model.at<double>(r, c);
-  }
-  if (K) {
-    const Eigen::Matrix3d K_inv = K->K().inverse();
-    M = K_inv.transpose() * M * K_inv;
-  }
-  if (!M.allFinite() || !(M.norm() > 0)) return std::nullopt;
-  return M / M.norm();
+  return FundamentalOfModel(model, K);  // none, or several solutions: nullopt
 }
 
 Eigen::Matrix3d FundamentalFromPoses(const PinholeIntrinsics& K, const SE3d& T_w_a,

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,6 +26,7 @@
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/sensor/camera_observations.h"
+#include "plucker/vision/flow_pyramid.h"
 #include "plucker/vision/line_matcher.h"
 
 namespace plucker {
@@ -35,8 +37,19 @@ struct LineTrackerOptions {
   LineMatcherOptions match;  // frame to frame
   int max_lost_frames = 2;   // a track may skip this many frames and be re-associated
   int flow_samples = 5;      // points per segment followed by optical flow (0: no prediction gate)
-  int flow_window_px = 15;
+  int flow_window_px = 11;   // 15 before: MH05 clip, docs/results/frontend-speed.md
   int flow_levels = 3;
+  // Gauss-Newton steps per level of the flow. Points on an edge converge across it in a few
+  // steps; along it the flow is undefined and would use all 30 of OpenCV's default, for a
+  // component the prediction gate does not use.
+  int flow_iterations = 8;
+  // A track and a segment that are each other's only candidate under every gate, the flow
+  // prediction included, are matched without descriptors (the Hamming distance is not checked);
+  // LBD descriptors are computed only for the tracks and segments with several candidates. A
+  // track's descriptor is that of its latest observation, computed when it is needed in the
+  // image of that frame (the last max_lost_frames + 1 images are kept). false: every gated pair
+  // is checked by its descriptors (the same matches as MatchLines on all segments).
+  bool flow_first = true;
 };
 
 struct LineTrackerStats {
@@ -48,6 +61,8 @@ struct LineTrackerStats {
   int started = 0;             // new tracks
   int lost = 0;                // tracks of the previous frame not found (kept for re-association)
   int ended = 0;               // tracks dropped for good (lost longer than max_lost_frames)
+  int flow_matched = 0;        // matches of a unique flow-gated pair (no descriptors)
+  int lbd_described = 0;       // LBD descriptors computed in this frame (segments and tracks)
   bool epipolar_gate = false;  // F_cur_prev was given
 };
 
@@ -66,6 +81,11 @@ class LineTracker {
   // pixels of this image (possibly none). F_cur_prev: x_cur^T F x_prev = 0.
   LineTrackerFrame Track(const cv::Mat& gray, const std::vector<Segment2d>& segments,
                          const std::optional<Eigen::Matrix3d>& F_cur_prev = std::nullopt);
+  // The same on the frame's flow pyramid (flow_pyramid.h; e.g. the one the point tracker used):
+  // its window_px must be >= flow_window_px (std::invalid_argument otherwise); the flow uses
+  // min(flow_levels, pyramid.max_level()) levels.
+  LineTrackerFrame Track(const FlowPyramid& pyramid, const std::vector<Segment2d>& segments,
+                         const std::optional<Eigen::Matrix3d>& F_cur_prev = std::nullopt);
 
   int next_track_id() const { return next_id_; }
   int live_tracks() const { return static_cast<int>(tracks_.size()); }
@@ -74,17 +94,28 @@ class LineTracker {
   struct TrackState {
     int id = -1;
     int last_frame = -1;
-    Segment2d segment = Segment2d::Zero();
-    cv::Mat descriptor;  // 1 x 32, CV_8UC1 (own copy)
+    Segment2d segment = Segment2d::Zero();   // latest (observed, or coasting on the flow)
+    Segment2d observed = Segment2d::Zero();  // as observed in last_frame
+    cv::Mat descriptor;                      // 1 x 32, CV_8UC1, of `observed` when
+    int descriptor_frame = -1;               // descriptor_frame == last_frame
   };
-  LinePredictions Predict(const std::vector<const TrackState*>& tracks, const cv::Mat& gray,
+  std::vector<LineMatch> Associate(const std::vector<int>& candidate_index,
+                                   const LinePredictions& predictions, const cv::Mat& gray,
+                                   const LineFeatures& current,
+                                   const std::optional<Eigen::Matrix3d>& F_cur_prev,
+                                   std::vector<cv::Mat>* current_descriptors, LineTrackerStats* st);
+  void DescribeTracks(const std::vector<int>& track_index, LineTrackerStats* st);
+  LineTrackerFrame TrackImpl(const cv::Mat& gray, const FlowPyramid& pyramid,
+                             const std::vector<Segment2d>& segments,
+                             const std::optional<Eigen::Matrix3d>& F_cur_prev);
+  LinePredictions Predict(const std::vector<const TrackState*>& tracks, const FlowPyramid& pyramid,
                           int* predicted) const;
-  static LineFeatures Features(const std::vector<const TrackState*>& tracks);
 
   LineTrackerOptions options_;
   std::vector<TrackState> tracks_;  // live and recently lost tracks
   cv::Size size_;
-  cv::Mat previous_;  // the previous image (for the flow prediction)
+  FlowPyramid previous_;  // of the previous image (for the flow prediction; empty without flow)
+  std::vector<std::pair<int, cv::Mat>> images_;  // (frame, image) of the latest frames
   int next_id_ = 0;
   int frame_ = 0;
 };

@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -48,6 +50,27 @@ cv::Mat Scene(int width, int height, unsigned seed) {
 }
 
 using testing::Shifted;
+
+fs::path KittiClipDir() { return fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip"; }
+
+struct KittiClip {
+  io::ImageFolder folder;
+  PinholeIntrinsics K;
+  io::Trajectory gt;
+};
+
+// The shared KITTI clip's images, pinhole and ground truth; nullopt when the data is absent.
+std::optional<KittiClip> OpenKittiClip() {
+  const fs::path data = KittiClipDir();
+  if (!fs::exists(data / "poses.txt")) return std::nullopt;
+  KittiClip c;
+  c.folder = io::OpenImageFolder((data / "image_0").string());
+  c.K = io::ReadKittiCalibration((data / "calib.txt").string(), c.folder.size.width,
+                                 c.folder.size.height)
+            .camera.K;
+  c.gt = io::ReadTrajectory((data / "poses.txt").string());
+  return c;
+}
 
 double LineDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& s, const Eigen::Vector2d& e) {
   const Eigen::Vector2d d = (e - s).normalized();
@@ -115,13 +138,11 @@ TEST(LineTracker, BadInput) {
 // The first frames of the real KITTI clip: tracks of 3+ views against the ground-truth poses
 // (the whole clip: `plucker lines track`, docs/results/lines.md).
 TEST(LineTracker, RealKittiClipFirstFrames) {
-  const fs::path data = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip";
-  if (!fs::exists(data / "poses.txt")) GTEST_SKIP() << "shared data absent: " << data;
-  const io::ImageFolder folder = io::OpenImageFolder((data / "image_0").string());
-  const PinholeIntrinsics K =
-      io::ReadKittiCalibration((data / "calib.txt").string(), folder.size.width, folder.size.height)
-          .camera.K;
-  const io::Trajectory gt = io::ReadTrajectory((data / "poses.txt").string());
+  const std::optional<KittiClip> clip = OpenKittiClip();
+  if (!clip) GTEST_SKIP() << "shared data absent: " << KittiClipDir();
+  const io::ImageFolder& folder = clip->folder;
+  const PinholeIntrinsics& K = clip->K;
+  const io::Trajectory& gt = clip->gt;
   const int frames = 6;
   PointTracker points(PointTrackerOptions{}, K);
   LineTracker lines;
@@ -171,6 +192,67 @@ TEST(LineTracker, RealKittiClipFirstFrames) {
   EXPECT_GT(compared, 100);
   EXPECT_GT(rejected, 10);  // forward motion: lines along the road
   EXPECT_LT(refined_rms, linear_rms);
+}
+
+// Flow-first association against descriptors on every gated pair, on the same real frames: the
+// unique flow-gated pairs skip LBD, which is then computed for a fraction of the segments, and
+// the tracks stay as precise.
+TEST(LineTracker, FlowFirstDescribesFewerSegmentsOnTheKittiClip) {
+  const std::optional<KittiClip> clip = OpenKittiClip();
+  if (!clip) GTEST_SKIP() << "shared data absent: " << KittiClipDir();
+  const io::ImageFolder& folder = clip->folder;
+  const PinholeIntrinsics& K = clip->K;
+  const io::Trajectory& gt = clip->gt;
+  std::vector<cv::Mat> images;
+  std::vector<std::vector<Segment2d>> segments;
+  for (int f = 0; f < 4; ++f) {  // the 80 longest segments (apps keep the 60 longest)
+    images.push_back(io::ReadGrayImage(folder.files[f]));
+    std::vector<Segment2d> s = DetectLineSegments(images.back()).segments;
+    std::sort(s.begin(), s.end(), [](const Segment2d& a, const Segment2d& b) {
+      return (a.tail<2>() - a.head<2>()).norm() > (b.tail<2>() - b.head<2>()).norm();
+    });
+    s.resize(std::min<std::size_t>(s.size(), 80));
+    segments.push_back(s);
+  }
+  struct Run {
+    int described = 0, flow_matched = 0, segments = 0, continued = 0;
+    eval::LineTrackQuality quality;
+  };
+  auto run = [&](bool flow_first) {
+    LineTrackerOptions options;
+    options.flow_first = flow_first;
+    PointTrackerOptions point_options;
+    point_options.target_count = 200;  // as the apps
+    PointTracker points(point_options, K);
+    LineTracker lines(options);
+    Run r;
+    std::vector<sensor::SegmentObservation> obs;
+    for (std::size_t f = 0; f < images.size(); ++f) {
+      const FlowPyramid pyramid(images[f], 15, 4);
+      const PointTrackerFrame p = points.Track(pyramid);
+      const LineTrackerFrame l = lines.Track(pyramid, segments[f], p.F_cur_prev);
+      r.described += l.stats.lbd_described;
+      r.flow_matched += l.stats.flow_matched;
+      r.segments += l.stats.description.described;
+      r.continued += l.stats.continued + l.stats.reassociated;
+      EXPECT_EQ(l.stats.match.matches, l.stats.continued + l.stats.reassociated);
+      obs.insert(obs.end(), l.observations.begin(), l.observations.end());
+    }
+    r.quality = eval::EvaluateLineTracks(K, gt.poses, obs);
+    return r;
+  };
+  const Run all = run(false), first = run(true);
+  std::printf(
+      "descriptors on every gated pair: %d LBD of %d segments, %d continued, precision %.3f; "
+      "flow first: %d LBD, %d matched by flow, %d continued, precision %.3f\n",
+      all.described, all.segments, all.continued, all.quality.precision(), first.described,
+      first.flow_matched, first.continued, first.quality.precision());
+  EXPECT_EQ(all.flow_matched, 0);
+  EXPECT_GT(first.flow_matched, all.continued / 3);
+  EXPECT_LT(first.described, 0.75 * all.described);
+  EXPECT_GT(first.continued, 0.9 * all.continued);
+  EXPECT_GE(first.quality.precision(), 0.9);
+  EXPECT_GE(all.quality.precision(), 0.9);
 }
 
 }  // namespace

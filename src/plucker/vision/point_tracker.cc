@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/LU>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -36,6 +37,21 @@ bool Inside(const cv::Point2f& p, const cv::Mat& image, int border) {
 
 }  // namespace
 
+std::optional<Eigen::Matrix3d> FundamentalOfModel(const cv::Mat& model,
+                                                  const std::optional<PinholeIntrinsics>& K) {
+  if (model.rows != 3 || model.cols != 3 || model.type() != CV_64F) return std::nullopt;
+  Eigen::Matrix3d M;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) M(r, c) = model.at<double>(r, c);
+  }
+  if (K) {
+    const Eigen::Matrix3d K_inv = K->K().inverse();
+    M = K_inv.transpose() * M * K_inv;
+  }
+  if (!M.allFinite() || !(M.norm() > 0)) return std::nullopt;
+  return M / M.norm();
+}
+
 PointTracker::PointTracker(const PointTrackerOptions& options,
                            const std::optional<PinholeIntrinsics>& K)
     : options_(options), K_(K) {
@@ -46,17 +62,30 @@ PointTracker::PointTracker(const PointTrackerOptions& options,
 PointTrackerFrame PointTracker::Track(const cv::Mat& image) {
   if (image.empty()) throw std::invalid_argument("PointTracker: empty image");
   if (image.type() != CV_8UC1) throw std::invalid_argument("PointTracker: not 8-bit grayscale");
+  return Track(FlowPyramid(image, options_.window_px, options_.pyramid_levels));
+}
+
+PointTrackerFrame PointTracker::Track(const FlowPyramid& pyramid) {
+  if (pyramid.empty()) throw std::invalid_argument("PointTracker: empty image");
+  const cv::Mat& image = pyramid.image();
+  if (image.type() != CV_8UC1) throw std::invalid_argument("PointTracker: not 8-bit grayscale");
+  if (pyramid.window_px() < options_.window_px) {
+    throw std::invalid_argument("PointTracker: pyramid built for a window of " +
+                                std::to_string(pyramid.window_px()) + " px < window_px " +
+                                std::to_string(options_.window_px));
+  }
   if (!previous_.empty() && image.size() != previous_.size()) {
-    throw std::invalid_argument(
-        "PointTracker: image of " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-        " after " + std::to_string(previous_.cols) + "x" + std::to_string(previous_.rows));
+    throw std::invalid_argument("PointTracker: image of " + std::to_string(image.cols) + "x" +
+                                std::to_string(image.rows) + " after " +
+                                std::to_string(previous_.size().width) + "x" +
+                                std::to_string(previous_.size().height));
   }
   PointTrackerFrame out;
   out.frame = frame_++;
   out.stats.previous = static_cast<int>(points_.size());
-  if (!points_.empty()) FlowAndCheck(image, &out);
+  if (!points_.empty()) FlowAndCheck(pyramid, &out);
   Detect(image, &out);
-  previous_ = image.clone();
+  previous_ = pyramid;
   points_.clear();
   ids_.clear();
   for (const sensor::PointObservation& o : out.observations) {
@@ -66,15 +95,14 @@ PointTrackerFrame PointTracker::Track(const cv::Mat& image) {
   return out;
 }
 
-void PointTracker::FlowAndCheck(const cv::Mat& image, PointTrackerFrame* out) {
-  const cv::Size window(options_.window_px, options_.window_px);
+void PointTracker::FlowAndCheck(const FlowPyramid& pyramid, PointTrackerFrame* out) {
+  const cv::Mat& image = pyramid.image();
   std::vector<cv::Point2f> next, back;
   std::vector<unsigned char> status, back_status;
-  std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(previous_, image, points_, next, status, error, window,
-                           options_.pyramid_levels);
-  cv::calcOpticalFlowPyrLK(image, previous_, next, back, back_status, error, window,
-                           options_.pyramid_levels);
+  PyramidFlow(previous_, pyramid, points_, options_.window_px, options_.pyramid_levels, &next,
+              &status);
+  PyramidFlow(pyramid, previous_, next, options_.window_px, options_.pyramid_levels, &back,
+              &back_status);
   std::vector<cv::Point2f> prev_kept;
   PointTrackerStats& stats = out->stats;
   for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -119,6 +147,7 @@ void PointTracker::RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points,
   }
   if (model.empty() || inlier.size() != obs.size()) return;  // no model: keep all, not run
   out->stats.ransac_run = true;
+  out->F_cur_prev = FundamentalOfModel(model, K_);
   std::size_t kept = 0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!inlier[i]) {
@@ -129,6 +158,7 @@ void PointTracker::RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points,
     (*prev_points)[kept] = (*prev_points)[i];
     ++kept;
   }
+  out->stats.ransac_inliers = static_cast<int>(kept);
   obs.resize(kept);
   prev_points->resize(kept);
 }

@@ -1,11 +1,12 @@
 // Point tracks over an image sequence (KLT): for every new frame,
 //   1. track: pyramidal Lucas-Kanade flow of every live track from the previous frame
-//      (cv::calcOpticalFlowPyrLK), and back again; a track survives when both directions
-//      converge, the round trip returns within max_forward_backward_px and it stays inside the
-//      image;
+//      (cv::calcOpticalFlowPyrLK on the frames' pyramids, flow_pyramid.h: each frame's pyramid
+//      is built once, or passed in by the caller who shares it), and back again; a track survives
+//      when both directions converge, the round trip returns within max_forward_backward_px and it
+//      stays inside the image;
 //   2. verify: RANSAC on the essential matrix (given the pinhole K; the images must be
 //      undistorted, vision/undistort.h) or, without K, the fundamental matrix; epipolar
-//      outliers end their track;
+//      outliers end their track; the model is returned as F_cur_prev (for the line gate);
 //   3. detect: new Shi-Tomasi corners (cv::goodFeaturesToTrack) away from the surviving tracks
 //      (min_distance_px), up to target_count live tracks, each with a new track id.
 // Track ids are never reused. Output: the frame's observations as sensor::PointObservation
@@ -16,10 +17,12 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "plucker/geometry/camera.h"
 #include "plucker/sensor/camera_observations.h"
+#include "plucker/vision/flow_pyramid.h"
 
 namespace plucker {
 namespace vision {
@@ -44,6 +47,7 @@ struct PointTrackerStats {
   int forward_backward_failed = 0;
   int ransac_outliers = 0;
   bool ransac_run = false;
+  int ransac_inliers = 0;
   int tracked = 0;   // survivors (continued tracks)
   int detected = 0;  // new tracks
   int live() const { return tracked + detected; }
@@ -53,6 +57,9 @@ struct PointTrackerFrame {
   int frame = 0;                                       // 0-based index of Track() calls
   std::vector<sensor::PointObservation> observations;  // continued tracks first, then new ones
   PointTrackerStats stats;
+  // The epipolar model of step 2 as x_cur^T F x_prev = 0 (F = K^-T E K^-1 with K; unit norm);
+  // nullopt when RANSAC did not run or gave no unique model.
+  std::optional<Eigen::Matrix3d> F_cur_prev;
 };
 
 class PointTracker {
@@ -65,22 +72,32 @@ class PointTracker {
   // Tracks into the next frame (8-bit grayscale, the size of the first frame). Throws
   // std::invalid_argument for an empty image, another type or another size.
   PointTrackerFrame Track(const cv::Mat& image);
+  // The same on the frame's pyramid (built by the caller, e.g. shared with the line tracker):
+  // its window_px must be >= options.window_px (std::invalid_argument otherwise); the flow uses
+  // min(pyramid_levels, pyramid.max_level()) levels.
+  PointTrackerFrame Track(const FlowPyramid& pyramid);
 
   int next_track_id() const { return next_id_; }
 
  private:
-  void FlowAndCheck(const cv::Mat& image, PointTrackerFrame* out);
+  void FlowAndCheck(const FlowPyramid& pyramid, PointTrackerFrame* out);
   void RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points, PointTrackerFrame* out);
   void Detect(const cv::Mat& image, PointTrackerFrame* out);
 
   PointTrackerOptions options_;
   std::optional<PinholeIntrinsics> K_;
-  cv::Mat previous_;
+  FlowPyramid previous_;
   std::vector<cv::Point2f> points_;  // live tracks in the previous frame
   std::vector<int> ids_;             // their track ids
   int next_id_ = 0;
   int frame_ = 0;
 };
+
+// The fundamental matrix x_b^T F x_a = 0 of an OpenCV RANSAC model (3x3 CV_64F): with K the
+// model is the essential matrix and F = K^-T E K^-1; unit norm. nullopt for anything else
+// (several stacked solutions, no model, not finite).
+std::optional<Eigen::Matrix3d> FundamentalOfModel(const cv::Mat& model,
+                                                  const std::optional<PinholeIntrinsics>& K);
 
 }  // namespace vision
 }  // namespace plucker

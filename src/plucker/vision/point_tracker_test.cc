@@ -23,19 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A textured image: random filled circles of random grey on a mid-grey background, blurred.
-cv::Mat Texture(int width, int height, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> x(0, width - 1), y(0, height - 1), r(3, 12), g(0, 255);
-  cv::Mat image(height, width, CV_8UC1, cv::Scalar(128));
-  for (int i = 0; i < width * height / 150; ++i) {
-    cv::circle(image, cv::Point(x(rng), y(rng)), r(rng), cv::Scalar(g(rng)), -1, cv::LINE_AA);
-  }
-  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.8);
-  return image;
-}
-
 using testing::Shifted;
+using testing::Texture;
 
 TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
   const cv::Mat base = Texture(320, 240, 7);
@@ -57,6 +46,16 @@ TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
     EXPECT_EQ(f.stats.live(), 150);  // re-detection refills to the target
     EXPECT_GT(f.stats.tracked, 120);
     EXPECT_TRUE(f.stats.ransac_run);
+    EXPECT_EQ(f.stats.ransac_inliers, f.stats.tracked);
+    // The RANSAC model is returned: the tracked points satisfy x_cur^T F x_prev = 0.
+    ASSERT_TRUE(f.F_cur_prev.has_value());
+    EXPECT_NEAR(f.F_cur_prev->norm(), 1.0, 1e-9);
+    for (const auto& o : f.observations) {
+      const auto it = start.find(o.point_id);
+      if (it == start.end() || k != 1) continue;
+      const Eigen::Vector3d l = *f.F_cur_prev * it->second.homogeneous();
+      EXPECT_LT(std::abs(l.dot(o.uv.homogeneous())) / l.head<2>().norm(), 2.0);
+    }
     detected_later += f.stats.detected;
     for (const auto& o : f.observations) {
       const auto it = start.find(o.point_id);
