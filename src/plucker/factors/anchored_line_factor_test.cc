@@ -30,7 +30,8 @@ void ProjectSegment(const SE3d& T_w_c, const Eigen::Vector3d& p1_w, const Eigen:
   *e = Eigen::Vector2d(kK.fx * b.x() / b.z() + kK.cx, kK.fy * b.y() / b.z() + kK.cy);
 }
 
-// The registered checks factor.line.Anchored.tangent and factor.line.AnchoredVI.tangent
+// The registered checks factor.line.Anchored.tangent, factor.line.AnchoredVI.tangent and
+// factor.line.AnchoredVI.time_offset (factors/time_offset_factor.h)
 // (verify/line_factor_checks.cc: a camera 1 km from the origin, rotations near pi, random
 // extrinsics), against autodiff and Ridders differences; the guarded sample is refused by both.
 TEST(AnchoredLineFactor, JacobianChecksPass) {
@@ -38,7 +39,7 @@ TEST(AnchoredLineFactor, JacobianChecksPass) {
   options.samples = 1000;
   options.seed = 11;
   const verify::JacobianCheckRun run =
-      verify::RunJacobianChecks(verify::FactorJacobianChecks(), "factor.line.Anchored", 2, options);
+      verify::RunJacobianChecks(verify::FactorJacobianChecks(), "factor.line.Anchored", 3, options);
   EXPECT_TRUE(run.ok()) << run.error;
   for (const verify::JacobianCheckStats& s : run.stats) {
     EXPECT_EQ(s.skipped, 1) << s.name;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 
 namespace plucker {
 namespace sensor {
@@ -11,6 +12,11 @@ struct PointObservation {
   int frame = 0;
   int point_id = -1;  // track id (the simulator: index into its scene's points); -1 = outlier
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  // Image velocity of the track at this frame (px/s), for the camera-IMU time offset
+  // (window::InertialOptions::estimate_time_offset). None: the window computes it from the
+  // track's two previous observations. A given velocity should not be computed with this
+  // observation (its noise would bias the offset), e.g. the flow between the two frames before.
+  std::optional<Eigen::Vector2d> uv_velocity = std::nullopt;
 };
 
 struct SegmentObservation {
@@ -18,6 +24,9 @@ struct SegmentObservation {
   int line_id = -1;  // track id (the simulator: index into its scene's segments); -1 = outlier
   Eigen::Vector2d s_px = Eigen::Vector2d::Zero();  // start point
   Eigen::Vector2d e_px = Eigen::Vector2d::Zero();  // end point
+  // Image velocities of the endpoints (px/s), as PointObservation::uv_velocity (both or none;
+  // only their components normal to the segment matter).
+  std::optional<Eigen::Vector2d> s_velocity = std::nullopt, e_velocity = std::nullopt;
 };
 
 // How the observations of a sequence were made: their pixel noise, the share of outliers, and

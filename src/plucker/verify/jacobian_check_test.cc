@@ -31,8 +31,8 @@ INSTANTIATE_TEST_SUITE_P(Registry, AllChecks, ::testing::ValuesIn(AllJacobianChe
 // The parameterised test above runs whatever the registry holds; this pins how much that is.
 TEST(Registry, HoldsEveryCheck) {
   EXPECT_EQ(GeometryJacobianChecks().size(), 15u);
-  EXPECT_EQ(FactorJacobianChecks().size(), 14u);
-  EXPECT_EQ(AllJacobianChecks().size(), 29u);
+  EXPECT_EQ(FactorJacobianChecks().size(), 16u);
+  EXPECT_EQ(AllJacobianChecks().size(), 31u);
 }
 
 // Ridders' differences against the exact derivative of a function that varies on a scale of
@@ -63,9 +63,9 @@ TEST(RunJacobianChecks, FailsOnEmptyOrUnexpectedSelection) {
   const JacobianCheckRun too_many =
       RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 2, options);
   EXPECT_FALSE(too_many.ok());
-  EXPECT_EQ(too_many.stats.size(), 6u);  // the four reprojection checks and the two anchored
+  EXPECT_EQ(too_many.stats.size(), 7u);  // four reprojection, two anchored, one time offset
   const JacobianCheckRun exact =
-      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 6, options);
+      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 7, options);
   EXPECT_TRUE(exact.ok()) << exact.error;
 }
 

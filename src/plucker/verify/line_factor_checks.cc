@@ -28,6 +28,7 @@
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/line_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
+#include "plucker/factors/time_offset_factor.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/cost_function_check.h"
 #include "plucker/verify/random_geometry.h"
@@ -45,6 +46,8 @@ struct LineFactorSample {
   Eigen::Matrix2d sqrt_info;
   bool expect_guard = false;
   LineAnchor anchor;  // the anchored factor's: the line block is in this frame
+  // The time-offset factor's endpoint velocities (px/s); its td is the block before the line.
+  Eigen::Vector2d v_s = Eigen::Vector2d::Zero(), v_e = Eigen::Vector2d::Zero();
 };
 
 // A parameter block of size n: a pose or an orthonormal line.
@@ -166,6 +169,18 @@ LineFactorSample AnchoredVISample(Rng& rng, int i) {
   return smp;
 }
 
+// The anchored VI sample with endpoint velocities and a td block (factors/time_offset_factor.h):
+// zero velocities on samples 1 and 7, td = 0 on samples 2 and 8 (curated), random otherwise.
+LineFactorSample AnchoredVITimeOffsetSample(Rng& rng, int i) {
+  LineFactorSample smp = AnchoredVISample(rng, i);
+  smp.v_s = Eigen::Vector2d(Uniform(rng, -300, 300), Uniform(rng, -300, 300));
+  smp.v_e = Eigen::Vector2d(Uniform(rng, -300, 300), Uniform(rng, -300, 300));
+  if (i == 1 || i == 7) smp.v_s = smp.v_e = Eigen::Vector2d::Zero();
+  const double td = (i == 2 || i == 8) ? 0.0 : Uniform(rng, -0.05, 0.05);
+  smp.blocks.insert(smp.blocks.begin() + 2, Eigen::VectorXd::Constant(1, td));
+  return smp;
+}
+
 using CreateFn = std::function<ceres::CostFunction*(const LineFactorSample&)>;
 using PlainCreateFn = ceres::CostFunction* (*)(const PinholeIntrinsics&, const Eigen::Vector2d&,
                                                const Eigen::Vector2d&, const Eigen::Matrix2d&);
@@ -187,6 +202,15 @@ CreateFn AnchoredVI(bool autodiff) {
   };
 }
 
+CreateFn AnchoredVITimeOffset(bool autodiff) {
+  return [autodiff](const LineFactorSample& s) {
+    return autodiff ? AnchoredLineFactorVITimeOffset::CreateAutoDiff(s.K, s.s_px, s.e_px, s.v_s,
+                                                                     s.v_e, s.sqrt_info, s.anchor)
+                    : AnchoredLineFactorVITimeOffset::Create(s.K, s.s_px, s.e_px, s.v_s, s.v_e,
+                                                             s.sqrt_info, s.anchor);
+  };
+}
+
 // Check `name` of the factor made by create / create_autodiff on the samples of `sample`, with
 // central differences through the manifolds' Plus (tangent) or over the raw parameters.
 NamedJacobianCheck LineFactorCheck(const std::string& name, std::uint64_t seed,
@@ -200,9 +224,11 @@ NamedJacobianCheck LineFactorCheck(const std::string& name, std::uint64_t seed,
               CostFunctionSample c;
               c.analytic.reset(create(smp));
               c.autodiff.reset(create_autodiff(smp));
-              c.x = smp.blocks;  // poses, then the line
+              c.x = smp.blocks;  // poses (then td, a time-offset factor's), then the line
               c.manifolds.assign(c.x.size(), tangent ? &pose_manifold : nullptr);
               if (tangent) c.manifolds.back() = &line_manifold;
+              for (std::size_t b = 0; b < c.x.size(); ++b)
+                if (c.x[b].size() == 1) c.manifolds[b] = nullptr;  // td: Euclidean
               // Per-block steps (see the top of the file); w1 / w2 is the line's distance.
               const double distance = std::abs(c.x.back()[4] / c.x.back()[5]);
               c.steps.assign(c.x.size(), 1e-6);
@@ -231,6 +257,8 @@ std::vector<NamedJacobianCheck> LineFactorJacobianChecks() {
                       Anchored(true), true),
       LineFactorCheck("factor.line.AnchoredVI.tangent", 205, AnchoredVISample, AnchoredVI(false),
                       AnchoredVI(true), true),
+      LineFactorCheck("factor.line.AnchoredVI.time_offset", 206, AnchoredVITimeOffsetSample,
+                      AnchoredVITimeOffset(false), AnchoredVITimeOffset(true), true),
   };
 }
 

@@ -4,12 +4,15 @@
 //
 // Curated first samples: 0 identity pose(s), 1 a rotation of exactly pi, 2 a rotation pi - 1e-7,
 // 3 a point 100 m away, 4 a point 5 cm in front of the camera, 5 a point on the optical axis,
-// 6 a point far off-axis (x/z = 2), 7 an identity extrinsic (VI only matters).
+// 6 a point far off-axis (x/z = 2), 7 an identity extrinsic (VI only matters). The time-offset
+// check (factors/time_offset_factor.h) adds the image velocity and td: zero velocity on samples
+// 0 and 8, td = 0 on samples 1 and 9, both random otherwise.
 #include <string>
 #include <vector>
 
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
+#include "plucker/factors/time_offset_factor.h"
 #include "plucker/verify/checks.h"
 #include "plucker/verify/cost_function_check.h"
 #include "plucker/verify/random_geometry.h"
@@ -97,6 +100,44 @@ NamedJacobianCheck PointFactorCheck(const std::string& name, std::uint64_t seed,
           }};
 }
 
+// The image velocity (px/s) and td (s) of sample i of a time-offset check.
+void SampleTimeOffset(Rng& rng, int i, Eigen::Vector2d* v, double* td) {
+  *v = Eigen::Vector2d(Uniform(rng, -300.0, 300.0), Uniform(rng, -300.0, 300.0));
+  *td = Uniform(rng, -0.05, 0.05);
+  if (i == 0 || i == 8) v->setZero();
+  if (i == 1 || i == 9) *td = 0.0;
+}
+
+// PointReprojectionFactorVITimeOffset: the VI sample, its velocity and the td block (Euclidean,
+// before the point).
+NamedJacobianCheck PointTimeOffsetCheck(const std::string& name, std::uint64_t seed) {
+  return {name, [=](const JacobianCheckOptions& o) {
+            const PoseManifold pose;
+            return RunCostFunctionCheck(name, seed, o, [&](Rng& rng, int i) {
+              const PointSample s = MakeSample(rng, i);
+              Eigen::Vector2d v;
+              double td;
+              SampleTimeOffset(rng, i, &v, &td);
+              CostFunctionSample c;
+              c.analytic.reset(
+                  PointReprojectionFactorVITimeOffset::Create(s.K, s.uv, v, s.sqrt_information));
+              c.autodiff.reset(PointReprojectionFactorVITimeOffset::CreateAutoDiff(
+                  s.K, s.uv, v, s.sqrt_information));
+              for (const SE3d& T : {s.T_w_b, s.T_b_c}) {
+                c.x.emplace_back(7);
+                T.ToParameters(c.x.back().data());
+                c.manifolds.push_back(&pose);
+              }
+              c.x.push_back(Eigen::VectorXd::Constant(1, td));
+              c.x.push_back(s.p_w);
+              c.manifolds.insert(c.manifolds.end(), 2, nullptr);
+              c.what = Describe(i) + (i == 0 || i == 8 ? ", zero velocity" : "") +
+                       (i == 1 || i == 9 ? ", td = 0" : "");
+              return c;
+            });
+          }};
+}
+
 }  // namespace
 
 std::vector<NamedJacobianCheck> PointFactorJacobianChecks() {
@@ -104,7 +145,8 @@ std::vector<NamedJacobianCheck> PointFactorJacobianChecks() {
       PointFactorCheck("factor.point.Reprojection", 201, false, &PointReprojectionFactor::Create,
                        &PointReprojectionFactor::CreateAutoDiff),
       PointFactorCheck("factor.point.ReprojectionVI", 202, true, &PointReprojectionFactorVI::Create,
-                       &PointReprojectionFactorVI::CreateAutoDiff)};
+                       &PointReprojectionFactorVI::CreateAutoDiff),
+      PointTimeOffsetCheck("factor.point.ReprojectionVI.time_offset", 203)};
 }
 
 }  // namespace verify

@@ -139,12 +139,14 @@ void PosesOnlyPrior::MarginalizeOldest(Impl& w, FrameResult* result) const {
     std::vector<MarginalizationResidual> mres;
     for (ResidualSpec* r : list) {
       MarginalizationResidual m{r->cost.get(), w.loss.get(), {}};
-      for (std::size_t b = 0; b + 1 < r->blocks.size(); ++b) {  // the pose (and extrinsic)
+      // The pose (and the extrinsic, the time offset).
+      for (std::size_t b = 0; b + 1 < r->blocks.size(); ++b) {
         double* pose = scratch_of(r->blocks[b]);
         to_real[pose] = r->blocks[b];
+        const BlockKind k = scratch_kind.at(r->blocks[b]);
         if (std::none_of(blocks.begin(), blocks.end(),
                          [&](const MarginalizationBlock& x) { return x.values == pose; }))
-          blocks.push_back({pose, 7, &w.pose_manifold});
+          blocks.push_back({pose, w.AmbientSize(k), w.ManifoldOf(k)});
         m.blocks.push_back(pose);
       }
       m.blocks.push_back(lm.data());
@@ -200,6 +202,8 @@ void PosesOnlyPrior::MarginalizeOldest(Impl& w, FrameResult* result) const {
   }
   if (scratch.count(w.extrinsic))
     blocks.push_back({scratch.at(w.extrinsic).data(), 7, &w.pose_manifold});
+  if (scratch.count(w.time_offset))
+    blocks.push_back({scratch.at(w.time_offset).data(), 1, nullptr});
   std::unique_ptr<MarginalizationPrior> next;
   std::vector<double*> next_blocks;
   // k0's blocks that a residual touches are removed. Only k0 touched (e.g. every leaving

@@ -41,6 +41,14 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
         "SlidingWindowEstimator: the extrinsic sigmas must be positive and "
         "extrinsic_min_rotation_deg >= 0");
   }
+  if (options.inertial && options.inertial->estimate_time_offset &&
+      !(std::isfinite(options.inertial->time_offset_s) &&
+        options.inertial->time_offset_prior_sigma_s > 0.0 &&
+        std::isfinite(options.inertial->time_offset_prior_sigma_s))) {
+    throw std::invalid_argument(
+        "SlidingWindowEstimator: time_offset_s must be finite and time_offset_prior_sigma_s "
+        "positive");
+  }
   if (options.inertial && !(options.inertial->tracking_velocity_sigma >= 0.0 &&
                             std::isfinite(options.inertial->tracking_velocity_sigma))) {
     throw std::invalid_argument("SlidingWindowEstimator: tracking_velocity_sigma must be >= 0");
@@ -49,6 +57,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
                                ? internal::MakePosesOnlyPrior()
                                : internal::MakeLandmarkPrior();
   impl_->ResetExtrinsic();
+  impl_->ResetTimeOffset();
 }
 
 SlidingWindowEstimator::~SlidingWindowEstimator() = default;
@@ -70,6 +79,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   internal::Prediction prediction = m.PredictFrame(input);
   result.stationary = prediction.stationary;
   std::unique_ptr<Frame> frame = m.MakeFrame(input, prediction.T_w_c);
+  m.RememberObservations(frame->input);
   frame->input.stationary = result.stationary;
   // Track.
   stage(WindowStage::kTracking);

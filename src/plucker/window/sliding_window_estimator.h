@@ -114,6 +114,19 @@ struct InertialOptions {
   // information conditioned on the held value (docs/vio.md: room, 3 deg, ATE 0.072 m against
   // 0.026 m free from the start and 0.054 m held).
   double extrinsic_min_rotation_deg = 0.0;
+  // Online estimation of the camera-IMU time offset td (docs/math/time-offset.md), in Kalibr's
+  // convention t_imu = t_cam + td (IMU stamps that run 8 ms late: td = +0.008): one scalar block
+  // in the window, kept in the marginalization prior like the extrinsic, with a prior from
+  // time_offset_s of time_offset_prior_sigma_s; the visual factors move each observation along its
+  // image velocity (uv - td v: factors/time_offset_factor.h). The velocity is the observation's
+  // (sensor::PointObservation::uv_velocity, SegmentObservation::s_/e_velocity) or, when the caller
+  // gives none, computed by the window from the track's two previous observations in the frames
+  // given to it (zero before that): a velocity computed with the observation itself shares its
+  // noise and biases td (window_time_offset.cc). Tracking sees the observations moved by the
+  // current estimate. false (default): no block, no velocities, everything as before the option.
+  bool estimate_time_offset = false;
+  double time_offset_s = 0.0;               // the initial value (and the prior's mean)
+  double time_offset_prior_sigma_s = 0.02;  // s
   sensor::ImuModel imu;
   Eigen::Vector3d gravity_w{0.0, 0.0, -9.81};  // the world is gravity-aligned
   // Priors on the first keyframe's state at initialisation (standard deviations).
@@ -355,6 +368,10 @@ class SlidingWindowEstimator {
   // (InertialOptions::estimate_extrinsic). Throws std::logic_error outside the inertial mode.
   SE3d ExtrinsicEstimate() const;
   bool ExtrinsicFree() const;  // estimated and no longer held (see InertialOptions)
+  // The camera-IMU time offset td the window uses now (s, t_imu = t_cam + td):
+  // InertialOptions::time_offset_s, or its estimate with estimate_time_offset. Throws
+  // std::logic_error outside the inertial mode.
+  double TimeOffsetEstimate() const;
 
   // Processes the next frame (after Initialize). See the file comment.
   FrameResult AddFrame(const FrameInput& frame, const StageObserver& observer = {});

@@ -5,7 +5,9 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/point_reprojection_factor.h"
+#include "plucker/factors/time_offset_factor.h"
 #include "plucker/window/window_factors_internal.h"
 #include "plucker/window/window_internal.h"
 
@@ -66,18 +68,44 @@ void SlidingWindowEstimator::Impl::SyncExtrinsic() {
 // With the extrinsic free: the visual residuals (held-extrinsic factors on pose and landmark)
 // become the VI factors on (pose, extrinsic block, landmark).
 void SlidingWindowEstimator::Impl::UseExtrinsicBlock(std::vector<ResidualSpec>* residuals) {
-  if (!extrinsic_free) return;
+  if (!extrinsic_free && !TimeOffsetOn()) return;
   for (ResidualSpec& r : *residuals) {
     if (r.frame == nullptr) continue;
+    if (!TimeOffsetOn()) {
+      if (r.is_point) {
+        const Eigen::Vector2d& uv = r.frame->input.points[r.observation].uv;
+        r.cost.reset(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()));
+      } else {
+        const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
+        r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px, LineSqrtInfo(),
+                                                  lines.at(seg.line_id)->anchor));
+      }
+      r.blocks = {r.blocks[0], extrinsic, r.blocks[1]};
+      continue;
+    }
+    // The time-offset factors (on the frame's velocities, filled in by MakeFrame).
+    ceres::CostFunction* vi;
     if (r.is_point) {
-      const Eigen::Vector2d& uv = r.frame->input.points[r.observation].uv;
-      r.cost.reset(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()));
+      const sensor::PointObservation& p = r.frame->input.points[r.observation];
+      vi = PointReprojectionFactorVITimeOffset::Create(
+          K, p.uv, p.uv_velocity.value_or(Eigen::Vector2d::Zero()), PointSqrtInfo());
     } else {
       const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
-      r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px, LineSqrtInfo(),
-                                                lines.at(seg.line_id)->anchor));
+      vi = AnchoredLineFactorVITimeOffset::Create(K, seg.s_px, seg.e_px,
+                                                  seg.s_velocity.value_or(Eigen::Vector2d::Zero()),
+                                                  seg.e_velocity.value_or(Eigen::Vector2d::Zero()),
+                                                  LineSqrtInfo(), lines.at(seg.line_id)->anchor);
     }
-    r.blocks = {r.blocks[0], extrinsic, r.blocks[1]};
+    if (extrinsic_free) {
+      r.cost.reset(vi);
+      r.blocks = {r.blocks[0], extrinsic, time_offset, r.blocks[1]};
+    } else if (r.is_point) {
+      r.cost.reset(new HeldExtrinsicTimeOffsetFactor<3>(vi, T_b_c));
+      r.blocks = {r.blocks[0], time_offset, r.blocks[1]};
+    } else {
+      r.cost.reset(new HeldExtrinsicTimeOffsetFactor<6>(vi, T_b_c));
+      r.blocks = {r.blocks[0], time_offset, r.blocks[1]};
+    }
   }
 }
 

@@ -44,8 +44,10 @@ InitializationResult SlidingWindowEstimator::Initialize(const FrameInput& a, con
                                                         int min_landmarks) {
   Impl& m = *impl_;
   m.Clear();
-  m.keyframes.push_back(m.MakeFrame(a, T_w_a));
-  m.keyframes.push_back(m.MakeFrame(b, T_w_b));
+  for (const auto& [input, T_w_c] : {std::make_pair(&a, T_w_a), std::make_pair(&b, T_w_b)}) {
+    m.keyframes.push_back(m.MakeFrame(*input, T_w_c));
+    m.RememberObservations(m.keyframes.back()->input);
+  }
   return m.StartWindow(min_landmarks);
 }
 
@@ -61,8 +63,10 @@ InitializationResult SlidingWindowEstimator::Initialize(const std::vector<FrameI
                                 " poses (2 to window_size of each needed)");
   }
   m.Clear();
-  for (std::size_t k = 0; k < frames.size(); ++k)
+  for (std::size_t k = 0; k < frames.size(); ++k) {
     m.keyframes.push_back(m.MakeFrame(frames[k], T_w_c[k]));
+    m.RememberObservations(m.keyframes.back()->input);
+  }
   return m.StartWindow(min_landmarks);
 }
 
@@ -94,6 +98,7 @@ InitializationResult SlidingWindowEstimator::InitializeInertial(
   m.Clear();
   for (std::size_t k = 0; k < frames.size(); ++k) {
     m.keyframes.push_back(m.MakeFrame(frames[k], states[k].T_w_b * m.T_b_c));
+    m.RememberObservations(m.keyframes.back()->input);
     m.keyframes.back()->SetState(states[k]);
     m.keyframes.back()->input.stationary =
         m.BelievedStationary(frames[k].stationary, states[k].v_w);

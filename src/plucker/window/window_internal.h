@@ -9,6 +9,7 @@
 //   window_residuals.cc              the residuals of the window and the Ceres problem built
 //   window_inertial.cc               the IMU buffer, prediction, the inertial residuals, AddImu
 //   window_extrinsic.cc              online estimation of T_b_c
+//   window_time_offset.cc            online estimation of the camera-IMU time offset
 //   window_tracking.cc               motion-only tracking of a frame, the PnP RANSAC fallback
 //   window_keyframe_policy.cc        parallax and the keyframe decision
 //   window_triangulation.cc          new points and lines from the window's keyframes
@@ -39,7 +40,7 @@ namespace plucker {
 namespace window {
 namespace internal {
 
-enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias };
+enum class BlockKind { kPose, kPoint, kLine, kVelocity, kBias, kTimeOffset };
 
 struct Frame {
   FrameInput input;
@@ -161,8 +162,23 @@ struct SlidingWindowEstimator::Impl {
   double extrinsic[7];
   bool extrinsic_free = false;
   std::unique_ptr<MarginalizationPrior> extrinsic_prior;
+  // Inertial mode: the camera-IMU time offset (its block; InertialOptions::estimate_time_offset)
+  // and, by track id, the previous frame's observation (time, the uv or the segment's endpoints a,
+  // b, and the difference velocities ending there), from which the image velocities the caller
+  // did not give are computed (window_time_offset.cc).
+  double time_offset[1] = {0.0};
+  struct LastObservation {
+    double time;
+    Eigen::Vector2d a, b, va, vb;
+  };
+  std::map<int, LastObservation> last_points, last_segments;
+  // Whether the segment (s, e) matches the previous one with its endpoints swapped.
+  static bool Swapped(const Eigen::Vector2d& s, const Eigen::Vector2d& e, const LastObservation& o);
+  bool TimeOffsetOn() const { return opt.inertial && opt.inertial->estimate_time_offset; }
 
   // --- window_state.cc: bookkeeping ----------------------------------------------------------
+  // With the time offset estimated, also fills in the image velocities (FillVelocities; the
+  // callers that keep the frame then call RememberObservations).
   std::unique_ptr<Frame> MakeFrame(const FrameInput& input, const SE3d& T_w_c) const;
   void Clear();
   bool InPrior(const double* block) const;
@@ -185,7 +201,9 @@ struct SlidingWindowEstimator::Impl {
   // --- window_residuals.cc: residuals and the problem ----------------------------------------
   Eigen::Matrix2d PointSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.point_sigma_px; }
   Eigen::Matrix2d LineSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.line_sigma_px; }
-  ceres::CostFunction* PointCost(const Eigen::Vector2d& uv) const;
+  // The visual costs on (pose, landmark): with the time offset, the observation moved by the
+  // current estimate, held (tracking, culling); UseExtrinsicBlock frees td in the window.
+  ceres::CostFunction* PointCost(const sensor::PointObservation& p) const;
   ceres::CostFunction* LineCost(const sensor::SegmentObservation& s,
                                 const LineAnchor& anchor) const;
   void AppendFrameResiduals(Frame* f, bool with_points, bool with_lines,
@@ -226,7 +244,19 @@ struct SlidingWindowEstimator::Impl {
   double RotationSpanDeg() const;
   void UpdateExtrinsicFree();
   void SyncExtrinsic();
+  // With the extrinsic free and / or the time offset estimated, the visual residuals on
+  // (pose, landmark) become the factors on (pose, [extrinsic], [td], landmark): the landmark
+  // stays the last block.
   void UseExtrinsicBlock(std::vector<ResidualSpec>* residuals);
+
+  // --- window_time_offset.cc: InertialOptions::estimate_time_offset --------------------------
+  void ResetTimeOffset();
+  // The image velocities the caller did not give, from the previous frame's observations.
+  void FillVelocities(FrameInput* input) const;
+  // The frame's observations become the previous frame's (with the time offset estimated).
+  void RememberObservations(const FrameInput& input);
+  // The prior r = (td - time_offset_s) / time_offset_prior_sigma_s.
+  ceres::CostFunction* TimeOffsetPrior() const;
 
   // --- window_tracking.cc: predict and track --------------------------------------------------
   // The pose (and, inertial, state) of the next frame: the caller's guess, the IMU from the

@@ -20,8 +20,13 @@ using internal::PosePriorResidual;
 using internal::ResidualSpec;
 using internal::RetainedPose;
 
-ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(const Eigen::Vector2d& uv) const {
-  if (!opt.inertial) return PointReprojectionFactor::Create(K, uv, PointSqrtInfo());
+ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(
+    const sensor::PointObservation& p) const {
+  if (!opt.inertial) return PointReprojectionFactor::Create(K, p.uv, PointSqrtInfo());
+  // With the time offset: the observation moved by the current estimate, uv - td v.
+  const Eigen::Vector2d uv = TimeOffsetOn() && p.uv_velocity
+                                 ? Eigen::Vector2d(p.uv - time_offset[0] * *p.uv_velocity)
+                                 : p.uv;
   return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
                                     T_b_c);
 }
@@ -29,6 +34,13 @@ ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(const Eigen::Vector
 ceres::CostFunction* SlidingWindowEstimator::Impl::LineCost(const sensor::SegmentObservation& s,
                                                             const LineAnchor& anchor) const {
   if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
+  if (TimeOffsetOn() && s.s_velocity && s.e_velocity) {
+    const double td = time_offset[0];
+    return new HeldExtrinsicFactor<6>(
+        AnchoredLineFactorVI::Create(K, s.s_px - td * *s.s_velocity, s.e_px - td * *s.e_velocity,
+                                     LineSqrtInfo(), anchor),
+        T_b_c);
+  }
   return new HeldExtrinsicFactor<6>(
       AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor), T_b_c);
 }
@@ -41,7 +53,7 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
       const auto it = points.find(f->input.points[i].point_id);
       if (it == points.end()) continue;
       ResidualSpec r;
-      r.cost.reset(PointCost(f->input.points[i].uv));
+      r.cost.reset(PointCost(f->input.points[i]));
       // Blocks from a temporary vector throughout: GCC 12 warns (-Wnonnull, a false positive) on
       // assigning an initializer list to the fresh vector here.
       r.blocks = std::vector<double*>{f->pose, it->second->p};
@@ -127,6 +139,13 @@ int SlidingWindowEstimator::Impl::BuildProblem(ceres::Problem* problem, bool hol
     r.cost.reset(extrinsic_prior->CreateCostFunction());
     r.robust = false;
     r.blocks = std::vector<double*>{extrinsic};
+    residuals.push_back(std::move(r));
+  }
+  if (TimeOffsetOn()) {
+    ResidualSpec r;
+    r.cost.reset(TimeOffsetPrior());
+    r.robust = false;
+    r.blocks = std::vector<double*>{time_offset};
     residuals.push_back(std::move(r));
   }
   int n = 0;

@@ -37,6 +37,7 @@ std::unique_ptr<Frame> SlidingWindowEstimator::Impl::MakeFrame(const FrameInput&
     for (const auto& s : input.segments)
       if (ValidSegment(s)) f->input.segments.push_back(s);
   }
+  FillVelocities(&f->input);
   f->point_outlier.assign(f->input.points.size(), 0);
   f->segment_outlier.assign(f->input.segments.size(), 0);
   if (opt.inertial) f->T_b_c = T_b_c;
@@ -55,6 +56,7 @@ void SlidingWindowEstimator::Impl::Clear() {
   retired_lines.clear();
   retained.clear();
   ResetExtrinsic();
+  ResetTimeOffset();
   prior_lines = 0;
 }
 
@@ -64,6 +66,7 @@ bool SlidingWindowEstimator::Impl::InPrior(const double* block) const {
 
 BlockKind SlidingWindowEstimator::Impl::KindOf(const double* block) const {
   if (block == extrinsic) return BlockKind::kPose;
+  if (block == time_offset) return BlockKind::kTimeOffset;
   for (const auto& rp : retained)
     if (rp->pose == block) return BlockKind::kPose;
   for (const auto& f : keyframes) {
@@ -84,6 +87,7 @@ const ceres::Manifold* SlidingWindowEstimator::Impl::ManifoldOf(BlockKind kind) 
 
 int SlidingWindowEstimator::Impl::AmbientSize(BlockKind kind) {
   if (kind == BlockKind::kBias) return 6;
+  if (kind == BlockKind::kTimeOffset) return 1;
   return kind == BlockKind::kPose ? 7 : (kind == BlockKind::kLine ? 6 : 3);
 }
 

@@ -69,7 +69,7 @@ TrackResult SlidingWindowEstimator::Impl::Track(Frame* f, const SE3d& guess,
   for (std::size_t i = 0; i < f->input.points.size(); ++i) {
     const auto it = points.find(f->input.points[i].point_id);
     if (f->point_outlier[i] || it == points.end()) continue;
-    obs.push_back({std::unique_ptr<ceres::CostFunction>(PointCost(f->input.points[i].uv)),
+    obs.push_back({std::unique_ptr<ceres::CostFunction>(PointCost(f->input.points[i])),
                    it->second->p, static_cast<int>(i), true});
   }
   if (opt.use_lines) {
