@@ -117,7 +117,7 @@ expect eval-init-bad-bias nonzero "accel-bias" -- \
 # The ground truth as TUM on the dataset's clock (exact nanoseconds as decimal seconds).
 expect convert-euroc-gt 0 "wrote 41 poses T_w_b" -- \
   "$PLUCKER" convert euroc-gt --euroc "$T/euroc" --out "$T/euroc_gt.tum"
-expect convert-euroc-gt-stamp 0 "^1.050000000 0 0 0 0 0 0 1$" -- sed -n 5p "$T/euroc_gt.tum"
+expect convert-euroc-gt-stamp 0 "^1.050000000 0 0 0 0 0 0 1$" -- sed -n 6p "$T/euroc_gt.tum"
 expect convert-euroc-gt-csv 0 "" -- bash -c "'$PLUCKER' convert euroc-gt --quiet \
   --csv '$E/state_groundtruth_estimate0/data.csv' --out '$T/euroc_gt2.tum' && \
   cmp <(grep -v '^#' '$T/euroc_gt.tum') <(grep -v '^#' '$T/euroc_gt2.tum')"
@@ -508,6 +508,9 @@ if [ -d "$EUROC/mav0" ]; then
   expect vio-euroc 0 "20 frames, static initialisation" -- \
     "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc.tum" --json "$T/veuroc.json" --no-lines
   expect vio-euroc-rows 0 "^20$" -- bash -c "grep -vc '^#' '$T/veuroc.tum'"
+  # On the dataset's clock: each stamp is the image's data.csv nanoseconds as decimal seconds.
+  expect vio-euroc-dataset-clock 0 "" -- bash -c "cmp <(grep -v '^#' '$T/veuroc.tum' | cut -d' ' -f1) \
+    <(tail -n +2 '$V/cam0/data.csv' | cut -d, -f1 | sed -E 's/^([0-9]+)([0-9]{9})$/\\1.\\2/')"
   rm "$V/cam0/data/$(sed -n 5p "$V/cam0/data.csv" | cut -d, -f2 | tr -d '\r')"
   sed -n 8p "$V/cam0/data.csv" >> "$V/cam0/data.csv"
   expect vio-euroc-skipped 0 "skipped .*data.csv:5: .*" -- \

@@ -143,8 +143,8 @@ int Run(const VioArgs& a) {
     throw io::IoError(in.source, "needs at least 3 frames, has " + std::to_string(report.frames));
   }
   const std::vector<odometry::VioFrameRecord>& refined = vio.RefinedTrajectory();
-  WriteVioTrajectory(a.out, refined, false);
-  if (!a.out_online.empty()) WriteVioTrajectory(a.out_online, online, true);
+  WriteVioTrajectory(a.out, refined, false, in.clock_origin_ns);
+  if (!a.out_online.empty()) WriteVioTrajectory(a.out_online, online, true, in.clock_origin_ns);
   if (!a.plot.empty()) WriteVioPlot(a.plot, in, refined);
   const double duration = refined.back().time - refined.front().time;
   if (!a.json.empty()) {

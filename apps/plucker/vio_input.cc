@@ -56,6 +56,7 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
 
 VioInput ReadVioEuroc(const std::string& dir) {
   io::EurocDataset data = io::ReadEurocDataset(dir);
+  in.clock_origin_ns = data.imu.origin_ns;
   VioInput in;
   in.source = dir;
   in.calibration.camera = data.cam0.camera;

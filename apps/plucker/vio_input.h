@@ -4,6 +4,7 @@
 // order. The images are read one at a time by the loop of cmd_vio.cc.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct VioInput {
   // Ground truth for the plot: per frame (features), or the EuRoC states (nearest in time).
   std::optional<std::vector<SE3d>> gt_T_w_b;
   std::vector<sensor::BodyState> gt_states;
+  // EuRoC: the dataset's clock, its first IMU timestamp (frame and IMU times are seconds since
+  // it); the TUM files are written on that clock. Features folders: none (their own times).
+  std::optional<std::int64_t> clock_origin_ns;
 };
 
 // Features folder; point tracks kept when id % point_stride == 0. Throws io::IoError.

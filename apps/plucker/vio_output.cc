@@ -193,7 +193,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
 
 std::vector<int> WriteVioTrajectory(const std::string& path,
                                     const std::vector<odometry::VioFrameRecord>& records,
-                                    bool online) {
+                                    bool online, std::optional<std::int64_t> clock_origin_ns) {
   std::vector<double> times;
   std::vector<SE3d> poses;
   std::vector<int> written;
@@ -205,7 +205,11 @@ std::vector<int> WriteVioTrajectory(const std::string& path,
   }
   const std::string what =
       online ? odometry::kOnlineTrajectoryNote : odometry::kRefinedTrajectoryNote;
-  io::WriteTumTrajectory(path, times, poses, {what});
+  if (clock_origin_ns) {
+    io::WriteTumTrajectoryOnClock(path, *clock_origin_ns, times, poses, {what});
+  } else {
+    io::WriteTumTrajectory(path, times, poses, {what});
+  }
   return written;
 }
 

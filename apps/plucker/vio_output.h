@@ -4,7 +4,9 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,10 +44,11 @@ class VioReport {
 };
 
 // The refined trajectory (`--out`) or the online poses (`--out-online`) as TUM, with a comment
-// saying which; returns the frames written.
+// saying which; on the dataset's clock when the input has one (EuRoC: the stamps of its files,
+// io::WriteTumTrajectoryOnClock); returns the frames written.
 std::vector<int> WriteVioTrajectory(const std::string& path,
                                     const std::vector<odometry::VioFrameRecord>& records,
-                                    bool online);
+                                    bool online, std::optional<std::int64_t> clock_origin_ns);
 
 // Top view of the refined trajectory (against the ground truth when the input has it).
 void WriteVioPlot(const std::string& path, const VioInput& in,

@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
     for (const odometry::VioFrameRecord& r : vio.RefinedTrajectory()) {
       if (r.T_w_b) times.push_back(r.time), poses.push_back(*r.T_w_b);
     }
-    io::WriteTumTrajectory(argv[2], times, poses, {odometry::kRefinedTrajectoryNote});
+    // On the dataset's clock: the stamps of the EuRoC files, as `plucker vio` writes them.
+    io::WriteTumTrajectoryOnClock(argv[2], data.imu.origin_ns, times, poses,
+                                  {odometry::kRefinedTrajectoryNote});
     std::printf("vio_euroc: %s initialisation, %zu poses written to %s\n",
                 vio.initialization().method.c_str(), poses.size(), argv[2]);
   } catch (const std::exception& e) {

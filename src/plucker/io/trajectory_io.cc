@@ -226,7 +226,7 @@ void WriteTumTrajectoryOnClock(const std::string& path, std::int64_t origin_ns,
   }
   std::string out;
   for (const std::string& line : header) out += "# " + line + "\n";
-  out += "# t tx ty tz qx qy qz qw\n";
+  out += "# stamps: seconds on the recording's own clock\n# t tx ty tz qx qy qz qw\n";
   for (std::size_t i = 0; i < poses.size(); ++i) {
     // |t| below 2^62 ns (146 years) keeps the sum in range.
     if (!std::isfinite(times[i]) || std::abs(times[i]) > 4.6e9) {

@@ -65,7 +65,8 @@ void WriteTumTrajectory(const std::string& path, const std::vector<double>& time
 // EuRoC's first IMU timestamp) plus times[i] seconds, rounded to the nanosecond and written as
 // exact decimal seconds with nine digits (`1403638538.577829376`), so that the stamps read back as
 // the dataset's own (evo, `plucker eval`). `header` lines (without '#') are written first as
-// comments, e.g. the frame the poses are in. Throws IoError (also if the sizes differ, or a time is
+// comments, e.g. the frame the poses are in, then a comment saying the stamps are on the
+// recording's clock. Throws IoError (also if the sizes differ, or a time is
 // not finite).
 void WriteTumTrajectoryOnClock(const std::string& path, std::int64_t origin_ns,
                                const std::vector<double>& times, const std::vector<SE3d>& poses,

@@ -243,6 +243,8 @@ TEST(TrajectoryIo, TumOnTheDatasetClockKeepsEveryNanosecond) {
   std::getline(in, line);
   EXPECT_EQ(line, "# T_w_b: body frame");
   std::getline(in, line);
+  EXPECT_EQ(line, "# stamps: seconds on the recording's own clock");
+  std::getline(in, line);
   EXPECT_EQ(line, "# t tx ty tz qx qy qz qw");
   for (std::int64_t d : offsets) {
     ASSERT_TRUE(std::getline(in, line));
