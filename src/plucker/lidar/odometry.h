@@ -75,8 +75,8 @@ struct LidarOdometryOptions {
   // on two registered poses, e.g. after skipped scans): coarse-to-fine stages run before the
   // normal registration, against maps of voxel size d re-sampled from the local map, for
   // d = start_distance, start_distance / 2, ... while d > max_correspondence_distance; plane and
-  // edge sigmas, the plane test and the convergence values scale with d, and no direction is
-  // held at the prediction (odometry.cc, StartStageOptions). 0: off.
+  // edge sigmas, the plane test and the convergence values scale with d (odometry.cc,
+  // StartStageOptions). 0: off.
   double start_distance = 4.0;  // m
   int map_cleanup_every = 10;   // frames between RemoveFar calls
   int num_threads = 1;          // threads (TBB) for features and correspondences
@@ -149,7 +149,7 @@ SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity);
 
 // The options of the coarse start stage at correspondence distance d (LidarOdometryOptions::
 // start_distance): maps of voxel size d, the map spacing, sigmas, plane test and convergence
-// values scaled by d / max_correspondence_distance, no degeneracy remapping.
+// values scaled by d / max_correspondence_distance.
 LidarOdometryOptions StartStageOptions(const LidarOdometryOptions& o, double d);
 
 // Step 4, map update: a scan's feature points, given in the sensor frame and moved in place to
