@@ -366,6 +366,7 @@ SE3d LidarOdometry::RegisterStart(const StageObserver& observer, ScanFeatures* f
     edge_map.AddPoints(edges_w);
     plane_map.AddPoints(planes_w);
     const SE3d T_w_s_before = result->T_w_s;
+    result->association_rounds = 0;
     if (!RunRounds(s, edge_map, plane_map, result->T_w_s, deskew_first_round, observer, features,
                    result))
       result->T_w_s = T_w_s_before;  // a stage that fails leaves the pose to the next one
