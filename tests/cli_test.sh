@@ -55,6 +55,9 @@ expect lidar 0 "" -- "$PLUCKER" lidar --data "$T/sim" --out "$T/est.txt" --json 
   --quiet
 expect lidar-output-rows 0 "^12$" -- bash -c "wc -l < '$T/est.txt'"
 expect eval-rpe 0 "" -- "$PLUCKER" eval rpe --gt "$T/sim/poses.txt" --est "$T/est.txt"
+expect eval-lidar-basin-needs-input nonzero "either --data" -- "$PLUCKER" eval lidar-basin
+expect eval-lidar-basin-sim 0 "restart: simulated" -- \
+  "$PLUCKER" eval lidar-basin --sim --sensor vlp16 --frames 4 --translations 2 --yaws 10 --drops 1
 expect lidar-threads 0 "" -- "$PLUCKER" lidar --data "$T/sim" --out "$T/est2.txt" --threads 2 --quiet
 expect lidar-threads-same-poses 0 "" -- cmp "$T/est.txt" "$T/est2.txt"
 expect bench-lidar 0 "speed-up 2 vs 1 threads" -- \

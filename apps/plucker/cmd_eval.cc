@@ -464,6 +464,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   RegisterEvalLines(*eval_cmd, exit_code);
   // `eval tracks` is added by the vision module (vision_commands.cc).
   RegisterEvalSfm(*eval_cmd, exit_code);
+  RegisterEvalLidarBasin(*eval_cmd, exit_code);
 }
 
 }  // namespace app

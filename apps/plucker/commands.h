@@ -26,6 +26,7 @@ void RegisterVo(CLI::App& app, int* exit_code);           // cmd_vo.cc
 void RegisterVio(CLI::App& app, int* exit_code);          // cmd_vio.cc
 void RegisterSfm(CLI::App& app, int* exit_code);          // cmd_sfm.cc
 void RegisterEvalSfm(CLI::App& eval, int* exit_code);     // cmd_eval_sfm.cc (eval sfm)
+void RegisterEvalLidarBasin(CLI::App& eval, int* exit_code);  // cmd_eval_lidar_basin.cc
 
 // `bench lines`, added by the vision module (vision_commands.cc), as the image commands above.
 void RegisterBenchLines(CLI::App& bench, int* exit_code);  // cmd_bench_lines.cc

@@ -207,6 +207,10 @@ std::vector<LidarOption> MakeTable() {
   t.push_back(Option("registration.constant_velocity", "",
                      "constant-velocity prediction (else the previous pose)",
                      PLUCKER_MEMBER(odometry.constant_velocity)));
+  t.push_back(Option("registration.start_distance", "m",
+                     "without a motion prior (second scan, after skips): coarse-to-fine stages "
+                     "from this correspondence distance, halved down to the normal one (0: off)",
+                     PLUCKER_MEMBER(odometry.start_distance)));
   // degeneracy: lidar/degeneracy.h
   t.push_back(Option("degeneracy.threshold", "",
                      "a translation is degenerate when its eigen-gap ratio is below this",

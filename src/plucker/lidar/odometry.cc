@@ -119,16 +119,30 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale) {
   return nullptr;
 }
 
+// The degeneracy criterion of options o (the information ceiling is in units of plane_sigma^-2).
+DegeneracyCriterion CriterionFor(const LidarOdometryOptions& o) {
+  DegeneracyCriterion criterion;
+  criterion.translation_ratio = o.degeneracy_threshold;
+  criterion.rotation_ratio = o.degeneracy_rotation_threshold;
+  criterion.max_translation_information =
+      o.degeneracy_max_normal_alignment / (o.plane_sigma * o.plane_sigma);
+  criterion.max_rotation_information = o.degeneracy_max_rotation_information;
+  return criterion;
+}
+
 void Notify(const StageObserver& observer, Stage stage) { observer ? observer(stage) : void(); }
 
-// The scan's features capped to max_edge_points / max_plane_points (times when deskewing).
+// The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
+// deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
-                         FeatureExtractor* extractor, ScanFeatures* features, std::string* error) {
+                         bool all, FeatureExtractor* extractor, ScanFeatures* features,
+                         std::string* error) {
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   feature_options.num_threads = o.num_threads;
   if (!extractor->Extract(scan, feature_options, features, error)) return false;
   if (!o.use_edges) features->edges.clear();
+  if (all) return true;
   StrideSample(o.max_edge_points, &features->edges, &features->edge_times);
   StrideSample(o.max_plane_points, &features->planes, &features->plane_times);
   return true;
@@ -141,11 +155,6 @@ class LidarOdometry::Impl {
   explicit Impl(const LidarOdometryOptions& o) : loss(MakeLoss(o.loss, o.loss_scale)) {
     if (o.num_threads > 1) arena = std::make_unique<tbb::task_arena>(o.num_threads);
     if (o.sensor != "auto") sensor = sensor::LidarModelFromName(o.sensor);
-    criterion.translation_ratio = o.degeneracy_threshold;
-    criterion.rotation_ratio = o.degeneracy_rotation_threshold;
-    criterion.max_translation_information =
-        o.degeneracy_max_normal_alignment / (o.plane_sigma * o.plane_sigma);
-    criterion.max_rotation_information = o.degeneracy_max_rotation_information;
   }
 
   // matches = the successful match_fn(plane, i), i < n, in order (in parallel: the same result).
@@ -204,7 +213,6 @@ class LidarOdometry::Impl {
 
   std::unique_ptr<tbb::task_arena> arena;  // none: one thread
   std::unique_ptr<ceres::LossFunction> loss;
-  DegeneracyCriterion criterion;
   std::optional<sensor::LidarModel> sensor;
   std::vector<Eigen::Vector3d> neighbours;
   std::vector<Match> planes, edges;
@@ -214,6 +222,7 @@ class LidarOdometry::Impl {
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
+  int registered_streak = 0;  // consecutive registered frames up to the last one (the first: 1)
 
   // Deskewing: the first scan seeds the map raw, kept here (at T_w_s_seed) until the next one.
   std::optional<ScanFeatures> seed;
@@ -252,6 +261,7 @@ void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vecto
 FrameResult LidarOdometry::SkipFrame(const std::string& reason) {
   FrameResult result;  // ok = false
   result.error = reason;
+  impl_->registered_streak = 0;
   result.T_w_s = PredictPose(poses_, options_.constant_velocity);
   poses_.push_back(result.T_w_s);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
@@ -271,7 +281,11 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
       (options_.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
   ScanFeatures& features = impl_->features;  // kept across scans: no per-scan heap churn
   std::string error;
-  if (!ExtractScanFeatures(scan, options_, deskew, &impl_->feature_extractor, &features, &error)) {
+  // The first scan is not registered: all its features seed the map (a one-scan map of the
+  // capped features is too sparse for the 1 m search of the next scan at speed).
+  const bool seed_all = poses_.empty();
+  if (!ExtractScanFeatures(scan, options_, deskew, seed_all, &impl_->feature_extractor, &features,
+                           &error)) {
     Notify(observer, Stage::kDone);
     return SkipFrame(error);
   }
@@ -316,30 +330,88 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
   if (poses_.empty() || edge_map_.NumPoints() + plane_map_.NumPoints() <
                             static_cast<std::size_t>(o.min_correspondences))
     return;
+  const bool start = impl_->registered_streak < 2 && o.start_distance > 0.0;
+  const SE3d T_w_s_anchor = start ? RegisterStart(observer, features, result) : T_w_s_pred;
+  if (!RunRounds(o, edge_map_, plane_map_, T_w_s_anchor, start, observer, features, result))
+    result->T_w_s = T_w_s_anchor;
+}
+
+LidarOdometryOptions StartStageOptions(const LidarOdometryOptions& o, double d) {
+  const double k = d / std::min(o.max_correspondence_distance, o.plane_map.voxel_size);
+  LidarOdometryOptions s = o;
+  s.max_correspondence_distance = d;
+  for (VoxelMapOptions* m : {&s.edge_map, &s.plane_map}) {
+    m->min_point_distance *= d / m->voxel_size;
+    m->voxel_size = d;
+  }
+  s.plane_sigma *= k;
+  s.edge_sigma *= k;
+  s.plane_max_residual *= k;
+  s.convergence_translation *= k;
+  s.convergence_rotation_deg *= k;
+  return s;
+}
+
+// The coarse-to-fine start (LidarOdometryOptions::start_distance) from the prediction: each stage
+// registers against the local map re-sampled at its distance. Returns the pose reached, which the
+// normal registration starts from and keeps along degenerate directions.
+SE3d LidarOdometry::RegisterStart(const StageObserver& observer, ScanFeatures* features,
+                                  FrameResult* result) {
+  const LidarOdometryOptions& o = options_;
+  const std::vector<Eigen::Vector3d> edges_w = edge_map_.Points(), planes_w = plane_map_.Points();
+  bool deskew_first_round = false;
+  for (double d = o.start_distance; d > o.max_correspondence_distance * (1.0 + 1e-9); d *= 0.5) {
+    const LidarOdometryOptions s = StartStageOptions(o, d);
+    VoxelMap edge_map(s.edge_map), plane_map(s.plane_map);
+    edge_map.AddPoints(edges_w);
+    plane_map.AddPoints(planes_w);
+    const SE3d T_w_s_before = result->T_w_s;
+    result->association_rounds = 0;
+    if (!RunRounds(s, edge_map, plane_map, result->T_w_s, deskew_first_round, observer, features,
+                   result))
+      result->T_w_s = T_w_s_before;  // a stage that fails leaves the pose to the next one
+    result->start_rounds += result->association_rounds;
+    deskew_first_round = true;
+  }
+  result->ok = true;
+  result->error.clear();
+  result->association_rounds = 0;
+  result->solver_iterations = 0;
+  return result->T_w_s;
+}
+
+// The association rounds (association_rounds, up to max_association_rounds while the pose moves)
+// of options o from result->T_w_s against the maps; degenerate directions are kept at
+// T_w_s_anchor. False when a round finds too few correspondences or the solver fails.
+bool LidarOdometry::RunRounds(const LidarOdometryOptions& o, const VoxelMap& edge_map,
+                              const VoxelMap& plane_map, const SE3d& T_w_s_anchor,
+                              bool deskew_first_round, const StageObserver& observer,
+                              ScanFeatures* features, FrameResult* result) {
   const int max_rounds = std::max(o.association_rounds, o.max_association_rounds);
   for (int round = 0; round < max_rounds; ++round) {
     Notify(observer, Stage::kCorrespondences);
-    if (round > 0 && result->deskewed) DeskewFeatures(result->T_w_s, features);
+    if ((round > 0 || deskew_first_round) && result->deskewed)
+      DeskewFeatures(result->T_w_s, features);
     const int found =
-        impl_->FindCorrespondences(edge_map_, plane_map_, *features, result->T_w_s, round == 0, o);
+        impl_->FindCorrespondences(edge_map, plane_map, *features, result->T_w_s, round == 0, o);
     result->plane_correspondences = static_cast<int>(impl_->planes.size());
     result->edge_correspondences = static_cast<int>(impl_->edges.size());
     result->ok = found >= o.min_correspondences;
     if (!result->ok) {
       result->error = "too few correspondences (" + std::to_string(found) + ")";
-      break;
+      return false;
     }
     Notify(observer, Stage::kSolve);
     const SE3d T_w_s_before = result->T_w_s;
-    result->ok = SolveRound(T_w_s_pred, result);
-    if (!result->ok) break;
+    result->ok = SolveRound(o, T_w_s_anchor, result);
+    if (!result->ok) return false;
     result->association_rounds = round + 1;
     const Vector6d step = result->T_w_s.Minus(T_w_s_before);
     const bool converged = step.tail<3>().norm() < o.convergence_translation &&
                            step.head<3>().norm() < o.convergence_rotation_deg * M_PI / 180.0;
     if (round + 1 >= o.association_rounds && converged) break;
   }
-  if (!result->ok) result->T_w_s = T_w_s_pred;
+  return true;
 }
 
 void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) const {
@@ -349,9 +421,9 @@ void LidarOdometry::DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) co
   DeskewScanPoints(T_s_prev_s, options_.features.scan_period, features);
 }
 
-// One solve from result->T_w_s, remapped to the prediction along degenerate directions.
-bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
-  const LidarOdometryOptions& o = options_;
+// One solve from result->T_w_s, remapped to the anchor along degenerate directions.
+bool LidarOdometry::SolveRound(const LidarOdometryOptions& o, const SE3d& T_w_s_anchor,
+                               FrameResult* result) {
   LidarResiduals& residuals = impl_->residuals;  // values: no heap per correspondence
   residuals.planes.clear(), residuals.edges.clear();
   for (const Match& m : impl_->planes)
@@ -370,9 +442,9 @@ bool LidarOdometry::SolveRound(const SE3d& T_w_s_pred, FrameResult* result) {
   }
   // Degeneracy from the normal equations at the solution (rows: a plane 1, an edge 2).
   const int rows = static_cast<int>(impl_->planes.size() + 2 * impl_->edges.size());
-  result->degeneracy = AnalyseDegeneracy(summary.normal_equations.H, rows, impl_->criterion);
+  result->degeneracy = AnalyseDegeneracy(summary.normal_equations.H, rows, CriterionFor(o));
   result->T_w_s =
-      o.handle_degeneracy ? RemapSolution(T_w_s_pred, T_w_s, result->degeneracy) : T_w_s;
+      o.handle_degeneracy ? RemapSolution(T_w_s_anchor, T_w_s, result->degeneracy) : T_w_s;
   return true;
 }
 
@@ -396,6 +468,8 @@ void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* 
   if (remove_far) impl_->frames_since_cleanup = 0;
   UpdateLocalMap(result->T_w_s, remove_far, &features->edges, &features->planes, &edge_map_,
                  &plane_map_);
+  const bool registered = result->ok && (result->association_rounds > 0 || poses_.empty());
+  impl_->registered_streak = registered ? impl_->registered_streak + 1 : 0;
   poses_.push_back(result->T_w_s);
   result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
 }

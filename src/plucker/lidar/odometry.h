@@ -71,8 +71,15 @@ struct LidarOdometryOptions {
   double degeneracy_max_rotation_information = 1e300;  // m^2/sigma^2 per row
   bool handle_degeneracy = true;  // remap the solution along degenerate directions
   bool constant_velocity = true;  // else the prediction is the previous pose
-  int map_cleanup_every = 10;     // frames between RemoveFar calls
-  int num_threads = 1;            // threads (TBB) for features and correspondences
+  // Start without a motion prior (the second scan, and every scan whose prediction does not rest
+  // on two registered poses, e.g. after skipped scans): coarse-to-fine stages run before the
+  // normal registration, against maps of voxel size d re-sampled from the local map, for
+  // d = start_distance, start_distance / 2, ... while d > max_correspondence_distance; plane and
+  // edge sigmas, the plane test and the convergence values scale with d (odometry.cc,
+  // StartStageOptions). 0: off.
+  double start_distance = 4.0;  // m
+  int map_cleanup_every = 10;   // frames between RemoveFar calls
+  int num_threads = 1;          // threads (TBB) for features and correspondences
 };
 
 struct FrameResult {
@@ -83,7 +90,8 @@ struct FrameResult {
   int edge_points = 0, plane_points = 0;                    // features used
   int edge_correspondences = 0, plane_correspondences = 0;  // of the last round
   int association_rounds = 0;                               // rounds run
-  int solver_iterations = 0;                                // solver iterations over all rounds
+  int start_rounds = 0;       // rounds of the coarse start stages (start_distance), 0 when none ran
+  int solver_iterations = 0;  // solver iterations over all rounds
   double final_cost = 0.0;
   DegeneracyInfo degeneracy;
   bool deskewed = false;
@@ -121,8 +129,12 @@ class LidarOdometry {
   void AssignScanRings(LidarScan* scan);
   void RegisterToMap(const SE3d& T_w_s_pred, bool deskew, const StageObserver& observer,
                      ScanFeatures* features, FrameResult* result);
+  SE3d RegisterStart(const StageObserver& observer, ScanFeatures* features, FrameResult* result);
+  bool RunRounds(const LidarOdometryOptions& o, const VoxelMap& edge_map, const VoxelMap& plane_map,
+                 const SE3d& T_w_s_anchor, bool deskew_first_round, const StageObserver& observer,
+                 ScanFeatures* features, FrameResult* result);
   void DeskewFeatures(const SE3d& T_w_s, ScanFeatures* features) const;
-  bool SolveRound(const SE3d& T_w_s_pred, FrameResult* result);
+  bool SolveRound(const LidarOdometryOptions& o, const SE3d& T_w_s_anchor, FrameResult* result);
   void UpdateMap(bool deskew, ScanFeatures* features, FrameResult* result);
   void RebuildMapFromSeed(const SE3d& T_w_s, ScanFeatures* features);
   LidarOdometryOptions options_;
@@ -134,6 +146,11 @@ class LidarOdometry {
 // Step 1, prediction from the poses so far: T_w_s_prev T_s_prev2_s_prev (constant velocity), the
 // previous pose when constant_velocity is off or only one pose exists, identity for none.
 SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity);
+
+// The options of the coarse start stage at correspondence distance d (LidarOdometryOptions::
+// start_distance): maps of voxel size d, the map spacing, sigmas, plane test and convergence
+// values scaled by d / max_correspondence_distance.
+LidarOdometryOptions StartStageOptions(const LidarOdometryOptions& o, double d);
 
 // Step 4, map update: a scan's feature points, given in the sensor frame and moved in place to
 // the world frame with T_w_s, enter the maps; with remove_far, voxels farther than their map's
