@@ -56,9 +56,9 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
 
 VioInput ReadVioEuroc(const std::string& dir) {
   io::EurocDataset data = io::ReadEurocDataset(dir);
-  in.clock_origin_ns = data.imu.origin_ns;
   VioInput in;
   in.source = dir;
+  in.clock_origin_ns = data.imu.origin_ns;
   in.calibration.camera = data.cam0.camera;
   in.calibration.T_b_c = data.cam0.T_b_c;
   in.calibration.imu = data.imu.imu_model;
