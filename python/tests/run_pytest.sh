@@ -14,7 +14,8 @@ if ! "$PY" -c "import pytest, numpy" 2>/dev/null; then
 fi
 export PYTHONPATH="$PKG${PYTHONPATH:+:$PYTHONPATH}"
 if [ -n "${PLUCKER_ASAN_RUNTIME:-}" ]; then
-  export LD_PRELOAD="$PLUCKER_ASAN_RUNTIME" ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}"
+  # Last wins: the leak check is off even when the caller's ASAN_OPTIONS turn it on.
+  export LD_PRELOAD="$PLUCKER_ASAN_RUNTIME" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 fi
 cd "$TESTS" || exit 1
 "$PY" -m pytest -q -p no:cacheprovider -rs "$TESTS"
