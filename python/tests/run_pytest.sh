@@ -3,7 +3,7 @@
 #   python/tests/run_pytest.sh BUILD_PYTHON_DIR TESTS_DIR
 # Environment: PLUCKER_PYTHON (the interpreter the module is built for; default python3),
 # PLUCKER_SHARED_DATA_DIR (real-data tests skip without it), PLUCKER_CLI (the
-# plucker program, for the comparisons with the command line), PLUCKER_ASAN_RUNTIME (libasan.so
+# plucker program, for the comparisons with the command line), PLUCKER_ASAN_RUNTIME (libasan.so:libstdc++.so
 # of a sanitized build: preloaded into python3, leak checks off as Python keeps its objects).
 # Exit 77 (skipped) without pytest or numpy; pytest's 5 (no test collected) is a failure.
 set -uo pipefail
