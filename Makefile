@@ -14,7 +14,7 @@ VIO_EUROC_DATA ?= $(VIO_EUROC_HEAD) ../shared/data/euroc-mh05-clip
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: deps release demo test sanitize downstream vio-euroc-release format clean bench
+.PHONY: deps release demo test sanitize downstream vio-euroc-release format clean bench python
 
 deps:
 	./scripts/install_deps.sh
@@ -22,6 +22,12 @@ deps:
 release: deps
 	cmake -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release -DPLUCKER_BUILD_TESTS=OFF
 	cmake --build $(RELEASE_DIR) -j $(JOBS)
+
+# The Python package: Release build, installed into PYTHON_PREFIX (docs/python.md).
+PYTHON_PREFIX ?= build/prefix-python
+python: release
+	cmake --install $(RELEASE_DIR) --prefix $(abspath $(PYTHON_PREFIX)) > /dev/null
+	@echo "import plucker works with: export PYTHONPATH=$(abspath $(PYTHON_PREFIX))/lib/python3/dist-packages"
 
 demo: release
 	$(RELEASE_DIR)/apps/plucker/plucker demo --out out/demo

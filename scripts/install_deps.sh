@@ -9,6 +9,8 @@ packages=(
   libopencv-dev libopencv-contrib-dev  # images, line detectors and descriptors (vision, io)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
+  pybind11-dev python3-dev python3-numpy  # the plucker Python package (python/)
+  python3-pytest mypy  # its tests and the type check of its stubs
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -38,6 +38,22 @@ for f in include/plucker/geometry/se3.h include/plucker/factors/pose_manifold.h 
          include/plucker/ba/bundle_adjustment.h; do
   [ -f "$P/$f" ] || { echo "FAIL missing $f"; fail=1; }
 done
+# The Python package, when the build has it: importable from the prefix as the README says.
+if ls "$BUILD"/python/plucker/_plucker*.so > /dev/null 2>&1; then
+  site="$P/lib/python3/dist-packages"
+  preload=()
+  [ -n "${PLUCKER_ASAN_RUNTIME:-}" ] && preload=(env LD_PRELOAD="$PLUCKER_ASAN_RUNTIME" ASAN_OPTIONS=detect_leaks=0)
+  if ! out=$(cd / && "${preload[@]}" env PYTHONPATH="$site" "${PLUCKER_PYTHON:-python3}" -c \
+      "import plucker; assert plucker.__file__.startswith('$site'), plucker.__file__; print(plucker.so3_exp([0, 0, 0.5]).shape)" 2>&1); then
+    echo "FAIL PYTHONPATH=$site python3 -c 'import plucker':"; echo "$out" | sed 's/^/     /'; fail=1
+  else
+    echo "ok   PYTHONPATH=<prefix>/lib/python3/dist-packages python3 -c 'import plucker'"
+  fi
+  [ -f "$site/plucker/_plucker.pyi" ] || { echo "FAIL the type stubs are not installed"; fail=1; }
+  if find "$P" -name '_plucker_verify*' | grep -q .; then
+    echo "FAIL the test-only _plucker_verify module is installed"; fail=1
+  fi
+fi
 headers=$(find "$P/include/plucker" -name '*.h' | wc -l)
 layers=$(find "$P/include/plucker" -mindepth 1 -maxdepth 1 -type d | sort | xargs -n1 basename | tr '\n' ' ')
 echo "installed: $headers headers in layers: $layers"

@@ -1,0 +1,167 @@
+// plucker readers and writers: KITTI .bin scans, PCD, trajectories (KITTI / TUM), EuRoC folders.
+// Every error is the library's IoError (plucker.IoError in Python) naming the file and the problem.
+#include <pybind11/stl.h>
+
+#include <charconv>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "plucker/io/euroc_dataset.h"
+#include "plucker/io/kitti_lidar.h"
+#include "plucker/io/pcd.h"
+#include "plucker/io/trajectory_io.h"
+
+namespace plucker {
+namespace python {
+
+namespace {
+
+// The scan as numpy: points (N, 3) float64 (a view of the scan's memory), intensity, ring, time
+// (empty arrays when the file has none) and the scan start time.
+py::dict ScanDict(LidarScan&& scan) {
+  py::dict d;
+  d["timestamp"] = scan.timestamp;
+  d["intensity"] =
+      py::array_t<float>(static_cast<py::ssize_t>(scan.intensity.size()), scan.intensity.data());
+  d["ring"] = py::array_t<int>(static_cast<py::ssize_t>(scan.ring.size()), scan.ring.data());
+  d["time"] = DoubleArray(std::move(scan.time));
+  d["points"] = PointsArray(std::move(scan.points));
+  return d;
+}
+
+// The KITTI line of a 4x4 pose: its first three rows, each number in the shortest text that
+// reads back as the same double (as io::WriteKittiPoses writes them).
+std::string FormatKittiPoses(const py::handle& poses) {
+  const py::array a = py::array::ensure(poses);
+  if (!a || a.ndim() != 3 || a.shape(1) != 4 || a.shape(2) != 4)
+    throw py::value_error("poses: expected shape (N, 4, 4)" + (a ? ", got " + ShapeText(a) : ""));
+  const auto d = py::array_t<double, py::array::forcecast>::ensure(a);
+  const auto u = d.unchecked<3>();
+  std::string out;
+  char buf[64];
+  for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) {
+        if (r + c > 0) out += ' ';
+        const auto res = std::to_chars(buf, buf + sizeof(buf), u(i, r, c));
+        out.append(buf, res.ptr);
+      }
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+py::dict EurocDict(io::EurocDataset&& e) {
+  py::dict camera;
+  const sensor::Camera& c = e.cam0.camera;
+  camera["K"] = ToVector(Eigen::Vector4d(c.K.fx, c.K.fy, c.K.cx, c.K.cy));
+  camera["distortion"] =
+      ToVector(Eigen::Vector4d(c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2));
+  camera["width"] = c.width;
+  camera["height"] = c.height;
+  camera["T_b_c"] = PoseMatrix(e.cam0.T_b_c);
+  camera["rate_hz"] = e.cam0.rate_hz;
+  Eigen::MatrixXd imu(static_cast<Eigen::Index>(e.imu.imu.size()), 7);
+  for (std::size_t i = 0; i < e.imu.imu.size(); ++i) {
+    const sensor::ImuSample& s = e.imu.imu[i];
+    imu.row(static_cast<Eigen::Index>(i)) << s.t, s.gyro.transpose(), s.accel.transpose();
+  }
+  std::vector<double> frame_times;
+  std::vector<std::string> images;
+  for (const io::EurocFrame& f : e.frames) {
+    frame_times.push_back(f.t);
+    images.push_back(f.image);
+  }
+  std::vector<SE3d> gt_poses;
+  std::vector<double> gt_times;
+  for (const sensor::BodyState& s : e.imu.ground_truth) {
+    gt_times.push_back(s.t);
+    gt_poses.push_back(s.T_w_b);
+  }
+  py::dict d;
+  d["camera"] = camera;
+  d["frame_times"] = DoubleArray(std::move(frame_times));
+  d["images"] = images;
+  d["imu"] = ToArray(imu);
+  d["origin_ns"] = e.imu.origin_ns;
+  d["ground_truth_times"] = DoubleArray(std::move(gt_times));
+  d["ground_truth_T_w_b"] = PoseMatrices(gt_poses);
+  d["skipped"] = e.skipped;
+  d["warnings"] = e.warnings;
+  return d;
+}
+
+}  // namespace
+
+void RegisterIo(py::module_& m) {
+  m.def(
+      "read_kitti_bin",
+      [](const std::string& path) {
+        const LidarScan scan = io::ReadKittiBin(path);  // drops non-finite records, as the CLI
+        const py::ssize_t n = static_cast<py::ssize_t>(scan.size());
+        py::array_t<float> a({n, py::ssize_t{4}});
+        auto w = a.mutable_unchecked<2>();
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const Eigen::Vector3d& p = scan.points[static_cast<std::size_t>(i)];
+          for (int k = 0; k < 3; ++k) w(i, k) = static_cast<float>(p(k));  // exact: read as float
+          w(i, 3) = scan.intensity.empty() ? 0.0f : scan.intensity[static_cast<std::size_t>(i)];
+        }
+        return a;
+      },
+      py::arg("path"),
+      "The records x y z intensity of a KITTI .bin scan as an (N, 4) float32 array, as stored\n"
+      "(LiDAR frame), the records with a NaN/Inf dropped as `plucker lidar` drops them. Raises\n"
+      "IoError for an unreadable, empty or truncated file.");
+  m.def(
+      "read_pcd", [](const std::string& path) { return ScanDict(io::ReadPcd(path)); },
+      py::arg("path"),
+      "A .pcd scan: dict with points (N, 3) float64, intensity, ring, time (per point, s from the\n"
+      "scan start; empty when absent) and timestamp. NaN points are dropped, as the CLI does.");
+  m.def(
+      "read_kitti_times",
+      [](const std::string& path) { return DoubleArray(io::ReadKittiTimes(path)); },
+      py::arg("path"), "A KITTI times.txt: (N,) seconds.");
+  m.def(
+      "read_kitti_calib_tr",
+      [](const std::string& path) -> py::object {
+        const auto T = io::ReadKittiCalibTr(path);
+        if (!T) return py::none();
+        return PoseMatrix(*T);
+      },
+      py::arg("path"),
+      "T_cam0_velo (4x4) from the Tr entry of a KITTI calib.txt, None without Tr.");
+  m.def(
+      "read_trajectory",
+      [](const std::string& path) {
+        io::Trajectory t = io::ReadTrajectory(path);
+        py::dict d;
+        d["times"] = DoubleArray(std::move(t.times));
+        d["poses"] = PoseMatrices(t.poses);
+        return d;
+      },
+      py::arg("path"),
+      "A KITTI (12 numbers a line) or TUM (t tx ty tz qx qy qz qw) trajectory: dict with times\n"
+      "(empty for KITTI) and poses (N, 4, 4).");
+  m.def("format_kitti_poses", &FormatKittiPoses, py::arg("poses"),
+        "The text `plucker lidar --out` writes for these poses (N, 4, 4): 12 numbers a line,\n"
+        "shortest exact form.");
+  m.def(
+      "write_tum",
+      [](const std::string& path, const py::handle& times, const py::handle& poses) {
+        const std::vector<SE3d> T = Poses(poses, "poses");
+        const Eigen::MatrixXd t = SmallMatrix(times, "times", static_cast<int>(T.size()), 0);
+        io::WriteTumTrajectory(path, std::vector<double>(t.data(), t.data() + t.size()), T);
+      },
+      py::arg("path"), py::arg("times"), py::arg("poses"),
+      "Writes a TUM trajectory (t tx ty tz qx qy qz qw) that evo_ape / evo_rpe read as it is.");
+  m.def(
+      "read_euroc", [](const std::string& dir) { return EurocDict(io::ReadEurocDataset(dir)); },
+      py::arg("dir"),
+      "A EuRoC ASL folder (with mav0/ or mav0 itself): cam0 calibration, frame times and image\n"
+      "paths, the IMU log (N, 7) = (t, gyro xyz, accel xyz), ground truth when present, and the\n"
+      "skipped frames and warnings. Times are s since the first IMU sample (origin_ns).");
+}
+
+}  // namespace python
+}  // namespace plucker

@@ -1,0 +1,44 @@
+// _plucker_verify: the C++ Jacobian check registry (`plucker check-jacobians`) from Python, for
+// the tests only (built in the build tree, never installed: verify is test scaffolding).
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "plucker/verify/jacobian_check.h"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_plucker_verify, m) {
+  m.doc() = "The C++ Jacobian check registry (tests only)";
+  m.def("check_names", []() {
+    std::vector<std::string> names;
+    for (const auto& c : plucker::verify::AllJacobianChecks()) names.push_back(c.name);
+    return names;
+  });
+  m.def(
+      "run_check",
+      [](const std::string& name, int samples, std::uint64_t seed) {
+        for (const auto& c : plucker::verify::AllJacobianChecks()) {
+          if (c.name != name) continue;
+          plucker::verify::JacobianCheckOptions o;
+          o.samples = samples;
+          o.seed = seed;
+          plucker::verify::JacobianCheckStats s;
+          {
+            py::gil_scoped_release release;
+            s = c.run(o);
+          }
+          py::dict d;
+          d["samples"] = s.samples;
+          d["skipped"] = s.skipped;
+          d["worst_error_vs_autodiff"] = s.worst_autodiff;
+          d["worst_error_vs_numeric"] = s.worst_numeric;
+          d["autodiff_tolerance"] = s.autodiff_tolerance;
+          d["numeric_tolerance"] = s.numeric_tolerance;
+          d["failures"] = s.failures;
+          d["passed"] = s.passed();
+          return d;
+        }
+        throw py::value_error("no Jacobian check named '" + name + "'");
+      },
+      py::arg("name"), py::arg("samples") = 100, py::arg("seed") = 42);
+}
