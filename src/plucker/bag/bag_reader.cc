@@ -74,6 +74,13 @@ std::string Join(const std::vector<std::string>& v, const char* sep) {
   return s;
 }
 
+// Seconds of a ROS time, correctly rounded (ros::Time::toSec multiplies by 1e-9, which does not
+// give back the decimal a folder's times.txt holds): below 2^53 ns the quotient is exact / 1e9.
+double ToSeconds(const ros::Time& t) {
+  if (t.sec < 9000000u) return (static_cast<double>(t.sec) * 1e9 + t.nsec) / 1e9;
+  return static_cast<double>(t.sec) + t.nsec / 1e9;
+}
+
 // One selected topic: its view and the message it is at (decoded, one of the pointers set).
 struct TopicStream {
   std::string topic, type;
@@ -116,7 +123,7 @@ struct BagReader::Impl {
     for (; s->it != s->view->end(); ++s->it, ++s->index) {
       try {
         const rosbag::MessageInstance& m = *s->it;
-        s->receive_s = m.getTime().toSec();
+        s->receive_s = ToSeconds(m.getTime());
         s->cloud.reset(), s->imu.reset(), s->image.reset(), s->compressed.reset();
         const std_msgs::Header* header = nullptr;
         if (s->type == kPointCloud2 && (s->cloud = m.instantiate<sensor_msgs::PointCloud2>()))
@@ -133,7 +140,7 @@ struct BagReader::Impl {
                m.getMD5Sum() + ")");
           continue;
         }
-        s->header_s = header->stamp.toSec();
+        s->header_s = ToSeconds(header->stamp);
         s->valid = true;
         return;
       } catch (const std::exception& e) {
@@ -186,12 +193,13 @@ BagReader::BagReader(const std::string& path) : impl_(new Impl) {
     for (auto& [name, t] : topics) {
       rosbag::View v(d.bag, rosbag::TopicQuery(name));
       t.messages = v.size();
-      if (t.messages > 0) t.first_s = v.getBeginTime().toSec(), t.last_s = v.getEndTime().toSec();
+      if (t.messages > 0)
+        t.first_s = ToSeconds(v.getBeginTime()), t.last_s = ToSeconds(v.getEndTime());
       d.info.topics.push_back(t);
     }
     d.info.messages = all.size();
     if (d.info.messages > 0)
-      d.info.start_s = all.getBeginTime().toSec(), d.info.end_s = all.getEndTime().toSec();
+      d.info.start_s = ToSeconds(all.getBeginTime()), d.info.end_s = ToSeconds(all.getEndTime());
   } catch (const std::exception& e) {  // rosbag::BagException and others
     throw BagError(path + ": cannot read the bag: " + e.what());
   }
@@ -277,7 +285,7 @@ bool BagReader::ReadScan(sensor::LidarScan* scan, std::string* error) const {
     if (error) *error = d.Where(d.current) + ": " + problem;
     return false;
   }
-  if (scan->timestamp == 0.0) scan->timestamp = m.header.stamp.toSec();
+  if (scan->timestamp == 0.0) scan->timestamp = ToSeconds(m.header.stamp);
   return true;
 }
 

@@ -111,6 +111,8 @@ std::string CloudToScan(const CloudLayout& layout, const std::uint8_t* data, std
              std::to_string(layout.point_step);
   }
   const std::size_t width = layout.width, height = layout.height;
+  const std::size_t n = width * height;
+  if (n == 0) return "empty cloud (width * height = 0)";
   if (height > 0 && width > 0 &&
       (layout.row_step < static_cast<std::size_t>(layout.point_step) * width))
     return "row_step " + std::to_string(layout.row_step) + " is less than point_step * width (" +
@@ -119,8 +121,6 @@ std::string CloudToScan(const CloudLayout& layout, const std::uint8_t* data, std
       (size / std::max<std::size_t>(layout.row_step, 1) < height || layout.row_step == 0))
     return "data has " + std::to_string(size) + " bytes, " + std::to_string(height) +
            " rows of row_step " + std::to_string(layout.row_step) + " need more";
-  const std::size_t n = width * height;
-  if (n == 0) return "empty cloud (width * height = 0)";
 
   scan->points.clear();
   scan->intensity.clear();
