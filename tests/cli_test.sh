@@ -544,6 +544,17 @@ if [ -d "$KITTI_LIDAR/velodyne" ]; then
 else
   echo "skip bag-from-kitti, lidar-bag-kitti-*: no KITTI extract at $KITTI_LIDAR"
 fi
+EUROC_HEAD="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-v101-head"
+if [ -d "$EUROC_HEAD/mav0" ]; then
+  expect bag-from-euroc 0 "95 images on /cam0/image_raw, 29120 IMU samples on /imu0" -- \
+    "$PLUCKER" bag from-euroc "$EUROC_HEAD" "$T/euroc.bag"
+  expect bag-info-euroc 0 "/cam0/image_raw +sensor_msgs/Image +95 msgs" -- \
+    "$PLUCKER" bag info "$T/euroc.bag"
+  expect lidar-bag-wrong-type nonzero "topic /imu0 has type sensor_msgs/Imu, expected sensor_msgs/PointCloud2" -- \
+    "$PLUCKER" lidar --bag "$T/euroc.bag" --topic /imu0 --out "$T/x.txt"
+else
+  echo "skip bag-from-euroc, bag-info-euroc, lidar-bag-wrong-type: no EuRoC head at $EUROC_HEAD"
+fi
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
