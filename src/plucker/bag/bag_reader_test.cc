@@ -282,6 +282,34 @@ TEST(BagReader, UnindexedTruncatedAndForeignFilesAreNamed) {
   EXPECT_EQ(ErrorOf((dir / "none.bag").string()), (dir / "none.bag").string() + ": no such file");
 }
 
+// A message whose bytes are corrupt (a string length beyond the message) is skipped, counted and
+// named; the stream goes on with the next one.
+TEST(BagReader, UnreadableMessageIsSkippedAndCounted) {
+  ScratchDir dir;
+  const std::string path = (dir / "corrupt.bag").string();
+  {
+    BagWriter w(path);
+    for (int k = 0; k < 3; ++k) w.WriteScan("/c", 1.0 + k, 1.0 + k, Scan(k));
+  }
+  std::string bytes = ReadAll(path);
+  const std::string name("\x09\x00\x00\x00intensity", 13);
+  const std::size_t at = bytes.find(name);  // the field name of message 0
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_NE(bytes.find(name, at + 1), std::string::npos);
+  bytes[at + 1] = '\x10';  // 4105 bytes: past the message's end
+  WriteAll(path, bytes);
+  BagReader r(path);
+  r.Select({{"/c", {kPointCloud2}}});
+  MessageRef m;
+  std::vector<std::size_t> indices;
+  while (r.Next(&m)) indices.push_back(m.index);
+  EXPECT_EQ(indices, (std::vector<std::size_t>{1, 2}));
+  EXPECT_EQ(r.stats().unreadable, 1u);
+  ASSERT_EQ(r.warnings().size(), 1u);
+  EXPECT_NE(r.warnings()[0].find(path + ": topic /c, message 0: unreadable"), std::string::npos)
+      << r.warnings()[0];
+}
+
 TEST(BagWriter, RefusesToOverwrite) {
   ScratchDir dir;
   const std::string path = WriteSmallBag(dir);
