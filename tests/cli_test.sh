@@ -531,5 +531,59 @@ else
   echo "skip vio-euroc-*: no EuRoC head at $EUROC"
 fi
 
+# ROS 1 bags (docs/bags.md): a folder written as a bag gives byte-identical poses with --bag; bad
+# bags and topics fail with the file and the problem named.
+expect bag-from-lidar 0 "12 PointCloud2 messages" -- \
+  "$PLUCKER" bag from-lidar "$T/sim" "$T/sim.bag" --topic /velodyne_points
+expect bag-info 0 "/velodyne_points +sensor_msgs/PointCloud2 +12 msgs" -- "$PLUCKER" bag info "$T/sim.bag"
+expect bag-from-lidar-no-overwrite nonzero "sim.bag: exists; refusing to overwrite" -- \
+  "$PLUCKER" bag from-lidar "$T/sim" "$T/sim.bag"
+expect lidar-bag 0 "" -- "$PLUCKER" lidar --bag "$T/sim.bag" --topic /velodyne_points --quiet \
+  --out "$T/est_bag.txt" --tum "$T/est_bag.tum"
+"$PLUCKER" lidar --data "$T/sim" --out "$T/est_dir.txt" --tum "$T/est_dir.tum" --quiet
+expect lidar-bag-same-poses 0 "" -- cmp "$T/est_dir.txt" "$T/est_bag.txt"
+expect lidar-bag-same-tum 0 "" -- cmp "$T/est_dir.tum" "$T/est_bag.tum"
+expect lidar-bag-receive-stamp 0 "" -- "$PLUCKER" lidar --bag "$T/sim.bag" --topic \
+  /velodyne_points --stamp receive --quiet --out "$T/est_bag_r.txt"
+expect lidar-bag-no-topic nonzero "sim.bag: no topic /points; the bag has: /velodyne_points" -- \
+  "$PLUCKER" lidar --bag "$T/sim.bag" --topic /points --out "$T/x.txt"
+expect lidar-bag-refuses-input nonzero "refusing to overwrite an input" -- \
+  "$PLUCKER" lidar --bag "$T/sim.bag" --topic /velodyne_points --out "$T/sim.bag"
+expect lidar-bag-and-data nonzero "give --data or --bag" -- \
+  "$PLUCKER" lidar --bag "$T/sim.bag" --data "$T/sim" --topic /velodyne_points --out "$T/x.txt"
+head -c 100000 "$T/sim.bag" > "$T/cut.bag"
+expect bag-info-truncated nonzero "cut.bag: truncated: its index starts at byte" -- \
+  "$PLUCKER" bag info "$T/cut.bag"
+expect lidar-bag-truncated nonzero "cut.bag: truncated" -- \
+  "$PLUCKER" lidar --bag "$T/cut.bag" --topic /velodyne_points --out "$T/x.txt"
+expect bag-info-not-a-bag nonzero "est.txt: not a ROS 1 bag" -- "$PLUCKER" bag info "$T/est.txt"
+KITTI_LIDAR="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/kitti-odometry-00/sequences/00"
+if [ -d "$KITTI_LIDAR/velodyne" ]; then
+  # The first 4 scans of the KITTI extract (links: nothing copied), with their times and calib.
+  mkdir -p "$T/k00/velodyne"
+  for f in 000000 000001 000002 000003; do ln -s "$KITTI_LIDAR/velodyne/$f.bin" "$T/k00/velodyne/"; done
+  head -4 "$KITTI_LIDAR/times.txt" > "$T/k00/times.txt"
+  expect bag-from-kitti 0 "4 PointCloud2 messages" -- \
+    "$PLUCKER" bag from-lidar "$T/k00" "$T/k00.bag" --topic /velodyne_points --lz4
+  "$PLUCKER" lidar --data "$T/k00" --frame lidar --quiet --out "$T/k_dir.txt" --tum "$T/k_dir.tum"
+  expect lidar-bag-kitti 0 "" -- "$PLUCKER" lidar --bag "$T/k00.bag" --topic /velodyne_points \
+    --frame lidar --quiet --out "$T/k_bag.txt" --tum "$T/k_bag.tum"
+  expect lidar-bag-kitti-same-poses 0 "" -- cmp "$T/k_dir.txt" "$T/k_bag.txt"
+  expect lidar-bag-kitti-same-tum 0 "" -- cmp "$T/k_dir.tum" "$T/k_bag.tum"
+else
+  echo "skip bag-from-kitti, lidar-bag-kitti-*: no KITTI extract at $KITTI_LIDAR"
+fi
+EUROC_HEAD="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-v101-head"
+if [ -d "$EUROC_HEAD/mav0" ]; then
+  expect bag-from-euroc 0 "95 images on /cam0/image_raw, 29120 IMU samples on /imu0" -- \
+    "$PLUCKER" bag from-euroc "$EUROC_HEAD" "$T/euroc.bag"
+  expect bag-info-euroc 0 "/cam0/image_raw +sensor_msgs/Image +95 msgs" -- \
+    "$PLUCKER" bag info "$T/euroc.bag"
+  expect lidar-bag-wrong-type nonzero "topic /imu0 has type sensor_msgs/Imu, expected sensor_msgs/PointCloud2" -- \
+    "$PLUCKER" lidar --bag "$T/euroc.bag" --topic /imu0 --out "$T/x.txt"
+else
+  echo "skip bag-from-euroc, bag-info-euroc, lidar-bag-wrong-type: no EuRoC head at $EUROC_HEAD"
+fi
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

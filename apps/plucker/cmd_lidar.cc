@@ -18,6 +18,7 @@
 
 #include "commands.h"
 #include "lidar_heap.h"
+#include "lidar_input.h"
 #include "lidar_options_table.h"
 #include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
@@ -39,6 +40,7 @@ using Clock = std::chrono::steady_clock;
 
 struct LidarArgs {
   std::string data, sequence, out, config, sensor = "auto", map, tum, json, frame = "cam0";
+  std::string bag, topic, stamp = "header";  // --bag input instead of --data
   bool quiet = false;
   int threads = 1;
   double map_voxel = 0.2;
@@ -53,18 +55,21 @@ std::string Canonical(const std::string& path) {
 
 // Refuses an output path that is an input (frame, calib, times, config, ground truth) or
 // another output.
-void CheckOutputs(const LidarArgs& a, const io::LidarSequence& seq) {
+void CheckOutputs(const LidarArgs& a, const io::LidarSequence* seq_or_bag) {
   std::set<std::string> inputs;
+  if (!seq_or_bag) inputs.insert(Canonical(a.bag));
+  static const io::LidarSequence kNoFolder;  // a bag: no folder inputs
+  const io::LidarSequence& seq = seq_or_bag ? *seq_or_bag : kNoFolder;
   for (std::size_t i = 0; i < seq.size(); ++i) inputs.insert(Canonical(seq.frame(i).path));
   for (const char* name : {"calib.txt", "times.txt"})
-    inputs.insert(Canonical((fs::path(seq.root()) / name).string()));
+    if (seq_or_bag) inputs.insert(Canonical((fs::path(seq.root()) / name).string()));
   if (!a.config.empty()) inputs.insert(Canonical(a.config));
   std::error_code ec;
   for (const fs::path& dir_gt : {fs::path(a.data) / "poses", fs::path(seq.root()) / "poses"}) {
     if (!fs::is_directory(dir_gt, ec)) continue;
     for (const auto& e : fs::directory_iterator(dir_gt, ec)) inputs.insert(Canonical(e.path()));
   }
-  if (fs::exists(fs::path(seq.root()) / "poses.txt", ec))
+  if (seq_or_bag && fs::exists(fs::path(seq.root()) / "poses.txt", ec))
     inputs.insert(Canonical((fs::path(seq.root()) / "poses.txt").string()));
   std::set<std::string> outputs;
   for (const std::string* out : {&a.out, &a.map, &a.tum, &a.json}) {
@@ -96,18 +101,17 @@ int RunLidar(const LidarArgs& a) {
   if (a.frame != "cam0" && a.frame != "lidar")
     throw std::runtime_error("--frame must be cam0 or lidar, got '" + a.frame + "'");
 
-  const io::LidarSequence seq = io::LidarSequence::Open(a.data, a.sequence);
-  CheckOutputs(a, seq);
-  AdaptToSequence(seq, &options);
+  if (a.bag.empty() == a.data.empty()) throw std::runtime_error("give --data or --bag (one)");
+  if (!a.bag.empty() && a.topic.empty()) throw std::runtime_error("--bag needs --topic");
+  LidarInput seq = a.bag.empty() ? LidarInput(io::LidarSequence::Open(a.data, a.sequence))
+                                 : LidarInput(a.bag, a.topic, a.stamp);
+  CheckOutputs(a, seq.sequence());
+  if (seq.sequence()) AdaptToSequence(*seq.sequence(), &options);
   bool to_cam0 = a.frame == "cam0" && seq.T_cam0_velo().has_value();
   if (!a.quiet) std::cerr << "plucker lidar: " << seq.description() << "\n";
-  if (a.frame == "cam0" && !to_cam0) {
-    std::cerr << "plucker lidar: "
-              << (seq.has_calib() ? (fs::path(seq.root()) / "calib.txt").string() +
-                                        " has no Tr (velodyne to cam0) entry"
-                                  : std::string("no calib.txt"))
+  if (a.frame == "cam0" && !to_cam0)
+    std::cerr << "plucker lidar: " << seq.missing_calib()
               << "; poses are written in the LiDAR frame\n";
-  }
 
   lidar::LidarOdometry odometry(options);
   lidar::VoxelMapOptions map_options{map_voxel, 1, 0.0, 1e12};
@@ -134,11 +138,10 @@ int RunLidar(const LidarArgs& a) {
     const auto t0 = Clock::now();
     const double cpu0 = ThreadCpuMs();
     std::string error;
-    const bool read_ok = seq.Read(i, &scan, &error);
+    double stamp = 0.0;
+    const bool read_ok = seq.Read(i, &scan, &error, &stamp);
     const double read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     const double read_cpu_ms = ThreadCpuMs() - cpu0;
-    double stamp = i < seq.times().size() ? seq.times()[i] : 0.1 * static_cast<double>(i);
-    if (read_ok && i >= seq.times().size() && scan.timestamp != 0.0) stamp = scan.timestamp;
     times.push_back(stamp);
 
     lidar::FrameResult r;
@@ -287,6 +290,7 @@ int RunLidar(const LidarArgs& a) {
   for (const auto& s : skipped)
     std::cerr << "  skipped frame " << s["frame"].get<std::size_t>() << ": "
               << s["reason"].get<std::string>() << "\n";
+  if (!seq.bag_summary().empty()) std::cerr << "plucker lidar: " << seq.bag_summary() << "\n";
   return 0;
 }
 
@@ -296,8 +300,12 @@ void RegisterLidar(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<LidarArgs>();
   CLI::App* cmd = app.add_subcommand(
       "lidar", "LOAM-style LiDAR odometry (edge/plane features, scan-to-map, analytic factors)");
-  cmd->add_option("--data", args->data, "Sequence folder (KITTI root, sequence folder, sim, PCD)")
-      ->required();
+  cmd->add_option("--data", args->data, "Sequence folder (KITTI root, sequence folder, sim, PCD)");
+  cmd->add_option("--bag", args->bag, "ROS 1 bag instead of --data (docs/bags.md)");
+  cmd->add_option("--topic", args->topic, "PointCloud2 topic of --bag");
+  cmd->add_option("--stamp", args->stamp,
+                  "Frame times and order of --bag: header (default) | receive")
+      ->check(CLI::IsMember({"header", "receive"}));
   cmd->add_option("--sequence", args->sequence, "KITTI sequence under DATA/sequences (e.g. 00)");
   cmd->add_option("--out", args->out, "Output poses, KITTI format (cam0 frame when Tr is known)")
       ->required();

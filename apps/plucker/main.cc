@@ -4,6 +4,12 @@
 #include "commands.h"
 #include "vision_module.h"
 
+namespace plucker {
+namespace app {
+void RegisterBag(CLI::App& app, int* exit_code);  // cmd_bag.cc (ROS 1 bags)
+}  // namespace app
+}  // namespace plucker
+
 int main(int argc, char** argv) {
   CLI::App app{"plucker: geometric features (points, lines, planes) for SLAM"};
   app.require_subcommand(1);
@@ -13,6 +19,7 @@ int main(int argc, char** argv) {
   plucker::app::RegisterBench(app, &exit_code);
   plucker::app::RegisterSim(app, &exit_code);
   plucker::app::RegisterLidar(app, &exit_code);
+  plucker::app::RegisterBag(app, &exit_code);
   plucker::app::RegisterEval(app, &exit_code);
   plucker::app::RegisterConfig(app, &exit_code);
   plucker::app::RegisterConvert(app, &exit_code);

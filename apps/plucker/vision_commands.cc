@@ -5,6 +5,12 @@
 
 #include "commands.h"
 
+namespace plucker {
+namespace app {
+void RegisterBagFromEuroc(CLI::App& bag_cmd, int* exit_code);  // cmd_bag_euroc.cc
+}  // namespace app
+}  // namespace plucker
+
 extern "C" void PluckerRegisterVisionCommands(CLI::App* app, int* exit_code) {
   using namespace plucker::app;
   RegisterLines(*app, exit_code);
@@ -13,4 +19,5 @@ extern "C" void PluckerRegisterVisionCommands(CLI::App* app, int* exit_code) {
   RegisterVio(*app, exit_code);
   RegisterBenchLines(*app->get_subcommand("bench"), exit_code);
   RegisterEvalTracks(*app->get_subcommand("eval"), exit_code);
+  RegisterBagFromEuroc(*app->get_subcommand("bag"), exit_code);
 }

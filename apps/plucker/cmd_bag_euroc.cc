@@ -1,0 +1,70 @@
+// `plucker bag from-euroc`: a EuRoC folder (what `plucker vio --euroc` reads) as a ROS 1 bag of
+// sensor_msgs/Image (mono8, cam0) and sensor_msgs/Imu (imu0) messages. Part of the image module
+// (it decodes the PNGs); added to the `bag` command of the main program.
+
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <iostream>
+
+#include "plucker/bag/bag_writer.h"
+#include "plucker/io/euroc_dataset.h"
+#include "run_guarded.h"
+
+namespace plucker {
+namespace app {
+namespace {
+
+struct FromEurocArgs {
+  std::string data, out, image_topic = "/cam0/image_raw", imu_topic = "/imu0";
+  bool quiet = false;
+};
+
+int RunFromEuroc(const FromEurocArgs& a) {
+  const io::EurocDataset euroc = io::ReadEurocDataset(a.data);
+  bag::BagWriter writer(a.out);
+  // Stamps are the folder reader's times (s since the first IMU sample), header = receive.
+  for (const sensor::ImuSample& s : euroc.imu.imu)
+    writer.WriteImu(a.imu_topic, std::max(s.t, 1e-9), s);
+  std::size_t images = 0;
+  for (const io::EurocFrame& f : euroc.frames) {
+    const cv::Mat gray = cv::imread(f.image, cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) {
+      std::cerr << "plucker bag from-euroc: skipped " << f.image << ": not a readable image\n";
+      continue;
+    }
+    std::vector<std::uint8_t> pixels;
+    pixels.reserve(gray.total());
+    for (int r = 0; r < gray.rows; ++r)
+      pixels.insert(pixels.end(), gray.ptr<std::uint8_t>(r), gray.ptr<std::uint8_t>(r) + gray.cols);
+    writer.WriteImage(a.image_topic, std::max(f.t, 1e-9), f.t, gray.cols, gray.rows, "mono8",
+                      pixels);
+    ++images;
+  }
+  writer.Close();
+  for (const std::string& s : euroc.skipped) std::cerr << "  skipped " << s << "\n";
+  if (!a.quiet)
+    std::cerr << "plucker bag from-euroc: " << images << " images on " << a.image_topic << ", "
+              << euroc.imu.imu.size() << " IMU samples on " << a.imu_topic << " -> " << a.out
+              << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void RegisterBagFromEuroc(CLI::App& bag_cmd, int* exit_code) {
+  auto args = std::make_shared<FromEurocArgs>();
+  CLI::App* cmd = bag_cmd.add_subcommand(
+      "from-euroc", "Write a EuRoC folder (cam0 + imu0) as sensor_msgs/Image + sensor_msgs/Imu");
+  cmd->add_option("data", args->data, "EuRoC folder (with mav0/)")->required();
+  cmd->add_option("out", args->out, "Output .bag (not overwritten)")->required();
+  cmd->add_option("--image-topic", args->image_topic, "Default /cam0/image_raw");
+  cmd->add_option("--imu-topic", args->imu_topic, "Default /imu0");
+  cmd->add_flag("--quiet", args->quiet, "No summary");
+  cmd->callback([args, exit_code]() {
+    RunGuarded("bag from-euroc", exit_code, [&] { return RunFromEuroc(*args); });
+  });
+}
+
+}  // namespace app
+}  // namespace plucker
