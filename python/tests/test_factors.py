@@ -69,8 +69,12 @@ rng_point = np.array([4.0, -2.0, 1.0])
 # Registry factors without a Python binding: the comparison variants of the LiDAR edge residual
 # (verify/lidar_comparison_factors.h, not library factors), the IMU preintegration factor and
 # marginalization priors (built from whole problems, not from one measurement).
+# The factors the package does not bind yet (each still has its C++ check in the registry). The
+# camera-IMU time-offset factors came with the window's td estimation (issue 26 section 3), after
+# the bindings were written: binding them is open work.
 NOT_BOUND = {"factor.lidar.PointToEdge2", "factor.lidar.PointToEdgeScalar",
-             "factor.imu.Preintegration", "factor.marginalization.Prior"}
+             "factor.imu.Preintegration", "factor.marginalization.Prior",
+             "factor.line.AnchoredVI.time_offset", "factor.point.ReprojectionVI.time_offset"}
 
 
 def test_every_registry_factor_is_bound_and_its_cpp_check_passes():
