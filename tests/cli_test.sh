@@ -466,6 +466,12 @@ expect vio-bad-config nonzero "vio_bad.yaml: unknown option 'windw'" -- \
 printf 'line_detection_scale: 2\n' > "$T/vio_range.yaml"
 expect vio-config-range nonzero "vio_range.yaml: an option is out of range" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range.yaml"
+printf 'time_offset_prior_sigma_s: 0\n' > "$T/vio_range_td.yaml"
+expect vio-config-range-time-offset nonzero "vio_range_td.yaml: .*time_offset_prior_sigma_s > 0" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_td.yaml"
+expect vio-time-offset-json 0 "" -- bash -c "'$PLUCKER' vio --features '$T/vcam' --out '$T/vio_td.tum' \
+  --json '$T/vio_td.json' --no-lines --point-stride 2 --estimate-time-offset --quiet && \
+  grep -q '\"camera_imu_time_offset_s\"' '$T/vio_td.json'"
 printf 'init_gyro_bias_bound: -1\n' > "$T/vio_range_gyro.yaml"
 expect vio-config-range-gyro nonzero "vio_range_gyro.yaml: an option is out of range" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_gyro.yaml"

@@ -26,7 +26,7 @@ namespace {
 
 struct VioArgs {
   std::string features, euroc, out, out_online, json, plot, config;
-  bool no_lines = false, quiet = false, estimate_extrinsic = false;
+  bool no_lines = false, quiet = false, estimate_extrinsic = false, estimate_time_offset = false;
   int point_stride = 1, window = 10;
   VioConfig cfg;
 };
@@ -191,6 +191,10 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   CLI::Option* estimate_extrinsic =
       cmd->add_flag("--estimate-extrinsic", args->estimate_extrinsic,
                     "Estimate the camera-body extrinsic T_b_c online (docs/vio.md)");
+  CLI::Option* estimate_td = cmd->add_flag(
+      "--estimate-time-offset", args->estimate_time_offset,
+      "Estimate the camera-IMU time offset online (t_imu = t_cam + td; JSON summary "
+      "camera_imu_time_offset_s; config keys time_offset_s, time_offset_prior_sigma_s)");
   CLI::Option* stride =
       cmd->add_option("--point-stride", args->point_stride,
                       "Use the point tracks whose id is a multiple of this (features folders)")
@@ -200,7 +204,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
                             ->check(CLI::Range(2, 1000))
                             ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
-  cmd->callback([args, exit_code, stride, window, estimate_extrinsic]() {
+  cmd->callback([args, exit_code, stride, window, estimate_extrinsic, estimate_td]() {
     RunGuarded("vio", exit_code, [&] {
       if (args->features.empty() == args->euroc.empty()) {
         throw std::invalid_argument("give --features DIR or --euroc DIR");
@@ -210,6 +214,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       if (stride->count() > 0) args->cfg.point_stride = args->point_stride;
       if (window->count() > 0) args->cfg.odometry.window = args->window;
       if (estimate_extrinsic->count() > 0) args->cfg.odometry.estimate_extrinsic = true;
+      if (estimate_td->count() > 0) args->cfg.odometry.estimate_time_offset = true;
       return Run(*args);
     });
   });

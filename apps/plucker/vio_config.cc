@@ -54,6 +54,9 @@ const std::vector<std::pair<std::string, ConfigSetter>>& ConfigFields() {
       {"extrinsic_rotation_sigma", Field(&Options::extrinsic_rotation_sigma)},
       {"extrinsic_translation_sigma", Field(&Options::extrinsic_translation_sigma)},
       {"extrinsic_min_rotation_deg", Field(&Options::extrinsic_min_rotation_deg)},
+      {"estimate_time_offset", Field(&Options::estimate_time_offset)},
+      {"time_offset_s", Field(&Options::time_offset_s)},
+      {"time_offset_prior_sigma_s", Field(&Options::time_offset_prior_sigma_s)},
       {"T_b_c", [](const YAML::Node& n, VioConfig* c) { c->T_b_c = n.as<std::vector<double>>(); }},
   };
   return fields;

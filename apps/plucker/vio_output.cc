@@ -188,6 +188,8 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
       {"T_b_c", PoseJson(T)},
       {"rotation_change_deg", AngleDeg(given, T)},
       {"translation_change_m", (T.translation() - given.translation()).norm()}};
+  // Kalibr's convention: t_imu = t_cam + offset (IMU stamps 8 ms late read +0.008).
+  out["summary"]["camera_imu_time_offset_s"] = vio.TimeOffsetEstimate();
   return out;
 }
 

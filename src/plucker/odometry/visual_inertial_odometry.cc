@@ -1,6 +1,7 @@
 #include "plucker/odometry/visual_inertial_odometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "plucker/odometry/visual_inertial_initializer.h"
@@ -32,6 +33,10 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(extrinsic_min_rotation_deg >= 0.0)) {
     return "extrinsic_rotation_sigma and extrinsic_translation_sigma must be > 0, "
            "extrinsic_min_rotation_deg >= 0";
+  }
+  if (!std::isfinite(time_offset_s) || !(std::abs(time_offset_s) < 1.0) ||
+      !(time_offset_prior_sigma_s > 0.0)) {
+    return "time_offset_s must be finite and within (-1, 1) s, time_offset_prior_sigma_s > 0";
   }
   return "";
 }
@@ -103,6 +108,9 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   inertial.extrinsic_rotation_sigma = c.extrinsic_rotation_sigma;
   inertial.extrinsic_translation_sigma = c.extrinsic_translation_sigma;
   inertial.extrinsic_min_rotation_deg = c.extrinsic_min_rotation_deg;
+  inertial.estimate_time_offset = c.estimate_time_offset;
+  inertial.time_offset_s = c.time_offset_s;
+  inertial.time_offset_prior_sigma_s = c.time_offset_prior_sigma_s;
   o.inertial = inertial;
   return o;
 }
@@ -435,6 +443,9 @@ SE3d VisualInertialOdometry::ExtrinsicEstimate() const {
 }
 bool VisualInertialOdometry::ExtrinsicFree() const {
   return impl_->estimator && impl_->estimator->ExtrinsicFree();
+}
+double VisualInertialOdometry::TimeOffsetEstimate() const {
+  return impl_->estimator ? impl_->estimator->TimeOffsetEstimate() : impl_->o.time_offset_s;
 }
 
 }  // namespace odometry

@@ -83,6 +83,11 @@ struct VisualInertialOdometryOptions {
   double extrinsic_rotation_sigma = 0.05;
   double extrinsic_translation_sigma = 0.02;
   double extrinsic_min_rotation_deg = 0.0;
+  // Online estimation of the camera-IMU time offset td (window::InertialOptions, Kalibr's
+  // convention t_imu = t_cam + td), from time_offset_s with a prior of this sigma (s).
+  bool estimate_time_offset = false;
+  double time_offset_s = 0.0;
+  double time_offset_prior_sigma_s = 0.02;
 
   // Empty when usable, else which ranges are violated.
   std::string Problem() const;
@@ -199,6 +204,9 @@ class VisualInertialOdometry {
   // The extrinsic the window uses (calibration.T_b_c before the start) and whether it is free.
   SE3d ExtrinsicEstimate() const;
   bool ExtrinsicFree() const;
+  // The camera-IMU time offset the window uses now (s, t_imu = t_cam + td): the option's value, or
+  // its estimate with estimate_time_offset once the window has started.
+  double TimeOffsetEstimate() const;
 
  private:
   struct Impl;
