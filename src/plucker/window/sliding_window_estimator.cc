@@ -79,6 +79,7 @@ FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   internal::Prediction prediction = m.PredictFrame(input);
   result.stationary = prediction.stationary;
   std::unique_ptr<Frame> frame = m.MakeFrame(input, prediction.T_w_c);
+  m.RefineNewestKeyframeVelocities(frame->input);
   m.RememberObservations(frame->input);
   frame->input.stationary = result.stationary;
   // Track.

@@ -121,9 +121,11 @@ struct InertialOptions {
   // image velocity (uv - td v: factors/time_offset_factor.h). The velocity is the observation's
   // (sensor::PointObservation::uv_velocity, SegmentObservation::s_/e_velocity) or, when the caller
   // gives none, computed by the window from the track's two previous observations in the frames
-  // given to it (zero before that): a velocity computed with the observation itself shares its
-  // noise and biases td (window_time_offset.cc). Tracking sees the observations moved by the
-  // current estimate. false (default): no block, no velocities, everything as before the option.
+  // given to it (zero before that), and for a keyframe replaced, when the next frame arrives, by
+  // the central difference of its neighbours: a velocity computed with the observation itself
+  // shares its noise and biases td (window_time_offset.cc). Tracking sees the observations moved by
+  // the current estimate. false (default): no block, no velocities, everything as before the
+  // option.
   bool estimate_time_offset = false;
   double time_offset_s = 0.0;               // the initial value (and the prior's mean)
   double time_offset_prior_sigma_s = 0.02;  // s

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <utility>
 
 #include "plucker/eval/ate.h"
@@ -38,12 +39,33 @@ struct OffsetRun {
   std::vector<SE3d> est;
 };
 
+// Exact image velocities of the point observations: central differences of the noise-free
+// observations of the frames before and after (the same scene and trajectory without noise).
+void GiveExactPointVelocities(const sim::CameraSimulation& clean, std::vector<FrameInput>* in) {
+  std::map<std::pair<int, int>, Eigen::Vector2d> uv;
+  for (const auto& p : clean.points) uv.emplace(std::make_pair(p.frame, p.point_id), p.uv);
+  for (std::size_t i = 1; i + 1 < in->size(); ++i) {
+    const double dt = (*in)[i + 1].time - (*in)[i - 1].time;
+    for (auto& p : (*in)[i].points) {
+      const auto a = uv.find({static_cast<int>(i) - 1, p.point_id});
+      const auto b = uv.find({static_cast<int>(i) + 1, p.point_id});
+      if (a != uv.end() && b != uv.end()) p.uv_velocity = (b->second - a->second) / dt;
+    }
+  }
+}
+
+struct RunOptions {
+  bool give_velocity = false;  // every point observation carries a (wrong) image velocity
+  bool use_lines = true;
+  const sim::CameraSimulation* exact_velocities_from = nullptr;  // GiveExactPointVelocities
+};
+
 // The window (every third point track: the sanitizer budget, poses-only prior as `plucker vio`)
 // started at the true states of frames kFirst and kFirst + 3, with the IMU stamps moved by
-// `imu_shift` s (late: positive, t_imu = t_cam + shift). `give_velocity`: every point observation
-// carries a (wrong) image velocity, which only the time offset estimation may use.
+// `imu_shift` s (late: positive, t_imu = t_cam + shift). `give_velocity` velocities are nonsense
+// that only the time offset estimation may use.
 OffsetRun RunWindow(const sim::CameraSimulation& s, double imu_shift, bool estimate,
-                    bool give_velocity = false) {
+                    const RunOptions& run_options = {}) {
   SlidingWindowOptions options;
   options.prior_blocks = SlidingWindowOptions::PriorBlocks::kPoses;
   options.retire_marginalized_tracks = false;
@@ -51,12 +73,15 @@ OffsetRun RunWindow(const sim::CameraSimulation& s, double imu_shift, bool estim
   options.inertial->T_b_c = s.rig.T_b_c;
   options.inertial->gravity_w = s.imu_options.gravity_w;
   options.inertial->estimate_time_offset = estimate;
+  options.use_lines = run_options.use_lines;
   std::vector<FrameInput> in(s.frame_times.size());
   for (std::size_t i = 0; i < in.size(); ++i) in[i].time = s.frame_times[i];
   for (const auto& p : s.points)
     if (p.point_id % 3 == 0) in[p.frame].points.push_back(p);
   for (const auto& l : s.segments) in[l.frame].segments.push_back(l);
-  if (give_velocity) {
+  if (run_options.exact_velocities_from)
+    GiveExactPointVelocities(*run_options.exact_velocities_from, &in);
+  if (run_options.give_velocity) {
     for (auto& f : in)
       for (auto& p : f.points) p.uv_velocity = Eigen::Vector2d(1e3, -1e3);  // nonsense: unused
   }
@@ -101,20 +126,41 @@ std::pair<OffsetRun, OffsetRun> HeldAndEstimated(double imu_shift) {
 }
 
 // IMU stamps 8 ms late: the estimate takes the sign of the shift (Kalibr's convention,
-// t_imu = t_cam + td). This is what holds today; the accuracy the issue asks for is the disabled
-// test below. (An early IMU would leave this harness's first frames uncovered.)
-TEST(TimeOffsetEstimation, TakesTheSignOfTheShift) {
+// t_imu = t_cam + td) and at least 2/3 of it, and the ATE is below the held run's; measured
+// +5.62 ms, ATE 0.0176 m against 0.0263 m held (with the lagged velocities before the central
+// differences: +4.98 ms, ATE 0.0374 m, worse than held). Without a shift within 0.5 ms of 0:
+// measured +0.28 ms (lagged: +1.11 ms, the errors-in-variables bias of window_time_offset.cc). The
+// 1 ms the issue asks for is the disabled test below. (An early IMU would leave this harness's
+// first frames uncovered.)
+TEST(TimeOffsetEstimation, RecoversMostOfTheShiftAndNoneWithoutOne) {
   const auto [held, estimated] = HeldAndEstimated(0.008);
   EXPECT_EQ(held.td, 0.0);
-  EXPECT_GT(estimated.td, 0.0);
+  EXPECT_GT(estimated.td, 0.008 * 2.0 / 3.0);
+  EXPECT_LT(estimated.td, 0.008);
+  EXPECT_LT(estimated.ate_m, held.ate_m);
+  const auto [held0, estimated0] = HeldAndEstimated(0.0);
+  EXPECT_NEAR(estimated0.td, 0.0, 0.5e-3);
+}
+
+// The model is unbiased given exact velocities: noise-free, points only, the velocities of the
+// noise-free observations: +7.58 ms for +8 ms (95 %; with lines, whose velocities are then
+// zero, 6.27 ms). What is missing with the window's own velocities is their noise (regression
+// dilution: 1 px over two frame intervals) and the lines (docs/math/time-offset.md).
+TEST(TimeOffsetEstimation, ExactVelocitiesRecoverTheShift) {
+  const sim::CameraSimulation clean = MemsRoom(kFrames, false);
+  RunOptions o;
+  o.use_lines = false;
+  o.exact_velocities_from = &clean;
+  const OffsetRun run = RunWindow(clean, 0.008, true, o);
+  std::printf("noise-free room, points only, exact velocities: td %+.5f s\n", run.td);
+  ASSERT_EQ(run.frames, kFrames - kFirst);
+  EXPECT_NEAR(run.td, 0.008, 0.8e-3);
 }
 
 // The issue's targets (26, section 3): within 1 ms of the shift, within 1 ms of 0 without one, the
 // ATE within 10 % of the held run. FAILS TODAY, so disabled (run with
-// --gtest_also_run_disabled_tests): measured +4.98 ms for +8 ms (about half the shift is recovered;
-// suspects: the image velocity's lag of one frame, and the start at the true states of the camera
-// times, which with an offset are not the states of the IMU clock) and +1.11 ms without a shift
-// (ATE 0.0156 m against 0.0246 m held). On the real MH_05 clip: docs/results/vio.md.
+// --gtest_also_run_disabled_tests): measured +5.62 ms for +8 ms and +0.28 ms without a shift
+// (ATE 0.0203 m against 0.0246 m held). On the real MH_05 clip: docs/results/vio.md.
 TEST(TimeOffsetEstimation, DISABLED_WithinOneMillisecondOfTheShift) {
   const auto [held, estimated] = HeldAndEstimated(0.008);
   EXPECT_NEAR(estimated.td, 0.008, 1e-3);
@@ -129,7 +175,9 @@ TEST(TimeOffsetEstimation, DISABLED_WithinOneMillisecondOfTheShift) {
 TEST(TimeOffsetEstimation, OffIgnoresTheVelocities) {
   const sim::CameraSimulation s = MemsRoom(40, false);
   const OffsetRun plain = RunWindow(s, 0.0, false);
-  const OffsetRun with_velocity = RunWindow(s, 0.0, false, true);
+  RunOptions o;
+  o.give_velocity = true;
+  const OffsetRun with_velocity = RunWindow(s, 0.0, false, o);
   ASSERT_EQ(plain.frames, 40 - kFirst);
   ASSERT_EQ(with_velocity.est.size(), plain.est.size());
   for (std::size_t i = 0; i < plain.est.size(); ++i) {

@@ -25,6 +25,7 @@
 #include <ceres/problem.h>
 
 #include <deque>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -47,6 +48,9 @@ struct Frame {
   double pose[7];                     // T_w_c, or T_w_b in the inertial mode
   std::vector<char> point_outlier;    // per input.points
   std::vector<char> segment_outlier;  // per input.segments
+  // With the time offset estimated: the observations whose image velocity the window filled in
+  // (not given by the caller), per input.points / input.segments.
+  std::vector<char> point_velocity_filled, segment_velocity_filled;
   // Inertial mode: the extrinsic, the velocity and bias blocks, the IMU from the previous
   // keyframe, and the priors of the first keyframe.
   std::optional<SE3d> T_b_c;
@@ -170,6 +174,10 @@ struct SlidingWindowEstimator::Impl {
   struct LastObservation {
     double time;
     Eigen::Vector2d a, b, va, vb;
+    // The track's observation in the frame before (a, b in the same order), at prev_time; NaN
+    // without one.
+    double prev_time = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Vector2d prev_a = Eigen::Vector2d::Zero(), prev_b = Eigen::Vector2d::Zero();
   };
   std::map<int, LastObservation> last_points, last_segments;
   // Whether the segment (s, e) matches the previous one with its endpoints swapped.
@@ -251,8 +259,13 @@ struct SlidingWindowEstimator::Impl {
 
   // --- window_time_offset.cc: InertialOptions::estimate_time_offset --------------------------
   void ResetTimeOffset();
-  // The image velocities the caller did not give, from the previous frame's observations.
-  void FillVelocities(FrameInput* input) const;
+  // The image velocities the caller did not give, from the previous frame's observations
+  // (flagged in the frame's *_velocity_filled).
+  void FillVelocities(Frame* frame) const;
+  // When the newest keyframe is the frame before `input`: the velocities it was given by
+  // FillVelocities become central differences over its neighbours, (x_k+1 - x_k-1) /
+  // (t_k+1 - t_k-1), which neither lag nor carry the observation's own noise.
+  void RefineNewestKeyframeVelocities(const FrameInput& input);
   // The frame's observations become the previous frame's (with the time offset estimated).
   void RememberObservations(const FrameInput& input);
   // The prior r = (td - time_offset_s) / time_offset_prior_sigma_s.

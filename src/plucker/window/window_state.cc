@@ -37,9 +37,9 @@ std::unique_ptr<Frame> SlidingWindowEstimator::Impl::MakeFrame(const FrameInput&
     for (const auto& s : input.segments)
       if (ValidSegment(s)) f->input.segments.push_back(s);
   }
-  FillVelocities(&f->input);
   f->point_outlier.assign(f->input.points.size(), 0);
   f->segment_outlier.assign(f->input.segments.size(), 0);
+  FillVelocities(f.get());
   if (opt.inertial) f->T_b_c = T_b_c;
   f->SetCameraPose(T_w_c);
   return f;
