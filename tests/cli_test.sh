@@ -451,6 +451,8 @@ expect vio-online-comment 0 "^# online: " -- sed -n 2p "$T/vio_online.tum"
 expect vio-online-rows 0 "^([1-9]|[1-3][0-9])$" -- bash -c "grep -vc '^#' '$T/vio_online.tum'"
 expect vio-json 0 '"method": "dynamic"' -- cat "$T/vio.json"
 expect vio-plot 0 "<svg" -- head -c 400 "$T/vio.svg"
+# The plot's panels: top view, error, height and both biases (no ground-truth biases here).
+expect vio-plot-panels 0 "^5$" -- bash -c "grep -oE '>(Top view|position error over time|height|gyroscope bias|accelerometer bias)[ <(]' '$T/vio.svg' | wc -l"
 expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"
 cp -r "$T/vcam" "$T/vgap"
 awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"

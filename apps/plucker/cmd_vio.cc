@@ -72,6 +72,7 @@ bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* v
   pose.frame = r.frame;
   pose.time = r.time;
   pose.T_w_b = r.T_w_b;
+  pose.window = r.window;  // the online state (biases) for --plot
   online->push_back(pose);
   return true;
 }
@@ -145,7 +146,7 @@ int Run(const VioArgs& a) {
   const std::vector<odometry::VioFrameRecord>& refined = vio.RefinedTrajectory();
   WriteVioTrajectory(a.out, refined, false, in.clock_origin_ns);
   if (!a.out_online.empty()) WriteVioTrajectory(a.out_online, online, true, in.clock_origin_ns);
-  if (!a.plot.empty()) WriteVioPlot(a.plot, in, refined);
+  if (!a.plot.empty()) WriteVioPlot(a.plot, in, refined, online);
   const double duration = refined.back().time - refined.front().time;
   if (!a.json.empty()) {
     nlohmann::json out = report.Json(in, vio, read_ms, WallMs() - t_start);
@@ -182,7 +183,9 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_option("--out-online", args->out_online,
                   "TUM trajectory of the poses as returned frame by frame (online)");
   cmd->add_option("--json", args->json, "Per-frame statistics, stage times and a summary (JSON)");
-  cmd->add_option("--plot", args->plot, "SVG: top view (against the ground truth if present)");
+  cmd->add_option("--plot", args->plot,
+                  "SVG: top view, position error, height and IMU biases over time (against the "
+                  "ground truth if present)");
   cmd->add_option("--config", args->config,
                   "YAML options (docs/vio.md): any of " + VioConfigKeys() +
                       " (T_b_c: [tx, ty, tz, qx, qy, qz, qw], instead of the input's)")

@@ -70,16 +70,22 @@ VioInput ReadVioEuroc(const std::string& dir) {
   return in;
 }
 
-std::vector<SE3d> NearestGroundTruth(const VioInput& in, const std::vector<double>& times) {
-  // The ground-truth state nearest each frame (20 Hz, as the camera).
-  std::vector<SE3d> gt;
+std::vector<sensor::BodyState> NearestGroundTruthStates(const VioInput& in,
+                                                        const std::vector<double>& times) {
+  std::vector<sensor::BodyState> gt;
   const std::vector<sensor::BodyState>& s = in.gt_states;
   std::size_t k = 0;
   for (const double t : times) {
     if (s.empty()) break;
     while (k + 1 < s.size() && std::abs(s[k + 1].t - t) <= std::abs(s[k].t - t)) ++k;
-    gt.push_back(s[k].T_w_b);
+    gt.push_back(s[k]);
   }
+  return gt;
+}
+
+std::vector<SE3d> NearestGroundTruth(const VioInput& in, const std::vector<double>& times) {
+  std::vector<SE3d> gt;
+  for (const sensor::BodyState& s : NearestGroundTruthStates(in, times)) gt.push_back(s.T_w_b);
   return gt;
 }
 

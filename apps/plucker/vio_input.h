@@ -39,7 +39,10 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride);
 // timestamps are skipped and named in `warnings`. Throws io::IoError.
 VioInput ReadVioEuroc(const std::string& dir);
 
-// The ground truth nearest each time (increasing), from gt_states (empty: none).
+// The ground truth nearest each time (increasing), from gt_states (empty: none): the states
+// (biases too) and their poses.
+std::vector<sensor::BodyState> NearestGroundTruthStates(const VioInput& in,
+                                                        const std::vector<double>& times);
 std::vector<SE3d> NearestGroundTruth(const VioInput& in, const std::vector<double>& times);
 
 }  // namespace app

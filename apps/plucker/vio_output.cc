@@ -215,8 +215,85 @@ std::vector<int> WriteVioTrajectory(const std::string& path,
   return written;
 }
 
+namespace {
+
+constexpr const char* kAxisColors[3] = {"#d62728", "#2ca02c", "#1f77b4"};  // x, y, z
+constexpr const char* kGtAxisColors[3] = {"#f4a3a3", "#a3dba3", "#a3c8e8"};
+
+// A panel of the estimate's x, y, z against time, with the ground truth's beside when given.
+eval::SeriesPanel AxesPanel(const std::string& title, const std::string& unit,
+                            const std::vector<double>& times,
+                            const std::vector<Eigen::Vector3d>& est,
+                            const std::vector<Eigen::Vector3d>& gt) {
+  eval::SeriesPanel panel;
+  panel.title = title;
+  panel.x_label = "time [s]";
+  panel.y_label = unit;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const auto* values : {&gt, &est}) {
+      if (values->empty()) continue;
+      eval::PlotSeries series;
+      const bool is_gt = values == &gt;
+      series.label = std::string(1, "xyz"[axis]) + (is_gt ? " ground truth" : " estimate");
+      series.color = is_gt ? kGtAxisColors[axis] : kAxisColors[axis];
+      for (std::size_t i = 0; i < values->size(); ++i)
+        series.points.emplace_back(times[i], (*values)[i](axis));
+      panel.series.push_back(series);
+    }
+  }
+  return panel;
+}
+
+// Height (z of the aligned estimate and of the ground truth) and the biases of the online
+// estimate per frame against the ground truth's (EuRoC), against time.
+std::string HeightAndBiasesSvg(const VioInput& in, const std::vector<double>& times,
+                               const std::vector<SE3d>& est_aligned, const std::vector<SE3d>& gt,
+                               const std::vector<double>& bias_times,
+                               const std::vector<window::InertialState>& states) {
+  eval::SeriesFigure figure;
+  figure.title = "plucker vio: height and IMU biases";
+  figure.subtitle = in.source;
+  eval::SeriesPanel height;
+  height.title = "height (z, aligned as the top view)";
+  height.x_label = "time [s]";
+  height.y_label = "z [m]";
+  for (const auto* poses : {&gt, &est_aligned}) {
+    if (poses->empty()) continue;
+    eval::PlotSeries series;
+    series.label = poses == &gt ? "ground truth" : "estimate";
+    series.color = poses == &gt ? "#222222" : "#1f77b4";
+    for (std::size_t i = 0; i < poses->size(); ++i)
+      series.points.emplace_back(times[i], (*poses)[i].translation().z());
+    height.series.push_back(series);
+  }
+  figure.panels.push_back(height);
+  std::vector<Eigen::Vector3d> gyro, accel, gt_gyro, gt_accel;
+  for (const window::InertialState& s : states) {
+    gyro.push_back(s.bias.gyro);
+    accel.push_back(s.bias.accel);
+  }
+  for (const sensor::BodyState& s : NearestGroundTruthStates(in, bias_times)) {
+    gt_gyro.push_back(s.gyro_bias);
+    gt_accel.push_back(s.accel_bias);
+  }
+  figure.panels.push_back(AxesPanel("gyroscope bias", "rad/s", bias_times, gyro, gt_gyro));
+  figure.panels.push_back(AxesPanel("accelerometer bias", "m/s^2", bias_times, accel, gt_accel));
+  for (eval::SeriesPanel& p : figure.panels) p.message = "no estimate";
+  return eval::RenderSeriesFigureSvg(figure);
+}
+
+}  // namespace
+
 void WriteVioPlot(const std::string& path, const VioInput& in,
-                  const std::vector<odometry::VioFrameRecord>& records) {
+                  const std::vector<odometry::VioFrameRecord>& records,
+                  const std::vector<odometry::VioFrameRecord>& online) {
+  std::vector<double> bias_times;
+  std::vector<window::InertialState> states;
+  for (const odometry::VioFrameRecord& r : online) {
+    if (!r.window) continue;
+    bias_times.push_back(r.time);
+    states.push_back(r.window->state);
+  }
   std::vector<SE3d> est, gt;
   std::vector<double> times;
   for (const odometry::VioFrameRecord& r : records) {
@@ -249,7 +326,9 @@ void WriteVioPlot(const std::string& path, const VioInput& in,
     plot.error_message = "no ground truth in the input";
   }
   for (const SE3d& T : est) plot.positions_est.push_back(T.translation());
-  io::WriteFileAtomically(path, eval::RenderTrajectoryPlotSvg(plot));
+  io::WriteFileAtomically(
+      path, eval::StackSvgDocuments({eval::RenderTrajectoryPlotSvg(plot),
+                                     HeightAndBiasesSvg(in, times, est, gt, bias_times, states)}));
 }
 
 }  // namespace app

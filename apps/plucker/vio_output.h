@@ -50,9 +50,13 @@ std::vector<int> WriteVioTrajectory(const std::string& path,
                                     const std::vector<odometry::VioFrameRecord>& records,
                                     bool online, std::optional<std::int64_t> clock_origin_ns);
 
-// Top view of the refined trajectory (against the ground truth when the input has it).
+// Top view of the refined trajectory and its position error (against the ground truth when the
+// input has it, aligned in position and yaw), under it its height and the online estimate's IMU
+// biases per frame against time (against the ground truth's: EuRoC), in one SVG. records: the
+// refined trajectory; online: the per-frame records with their window results (the biases).
 void WriteVioPlot(const std::string& path, const VioInput& in,
-                  const std::vector<odometry::VioFrameRecord>& records);
+                  const std::vector<odometry::VioFrameRecord>& records,
+                  const std::vector<odometry::VioFrameRecord>& online);
 
 }  // namespace app
 }  // namespace plucker

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace plucker {
 namespace eval {
@@ -201,6 +202,70 @@ void NonEmptyRange(double* lo, double* hi) {
 
 const char* AxisName(int i) { return i == 0 ? "x" : i == 1 ? "y" : "z"; }
 
+// A panel of series against x in `f` (its pixel rectangle set), the title at y = title_y and the
+// legend at legend_y; the message when there is nothing to plot. clip: the clipPath id.
+void DrawSeriesPanel(std::ostringstream& s, Frame f, double title_y, double legend_y,
+                     const SeriesPanel& panel, const std::string& clip) {
+  std::vector<LegendEntry> legend;
+  for (const PlotSeries& series : panel.series) {
+    legend.push_back({series.label, series.color, series.line ? 'l' : 'd'});
+  }
+  Text(s, f.px + f.pw / 2, title_y, panel.title, 14, "middle", "font-weight=\"bold\"");
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (const PlotSeries& series : panel.series) {
+    for (const Eigen::Vector2d& p : series.points) {
+      if (!p.allFinite()) continue;
+      x0 = std::min(x0, p.x());
+      x1 = std::max(x1, p.x());
+      y0 = std::min(y0, p.y());
+      y1 = std::max(y1, p.y());
+    }
+  }
+  if (x1 >= x0) {
+    if (panel.zero_line) y0 = std::min(y0, 0.0);
+    const double span = y1 - y0;
+    y1 = y1 + 0.06 * span;
+    if (!panel.zero_line) y0 = y0 - 0.06 * span;
+    NonEmptyRange(&x0, &x1);
+    NonEmptyRange(&y0, &y1);
+    f.x0 = x0;
+    f.x1 = x1;
+    f.y0 = y0;
+    f.y1 = y1;
+    Axes(s, f, panel.x_label, panel.y_label);
+    for (const PlotSeries& series : panel.series) {
+      if (series.line) Polyline(s, f, series.points, series.color, 1.6, clip);
+      if (series.markers) Dots(s, f, series.points, series.color, clip);
+    }
+    Legend(s, f.px, legend_y, f.pw, legend);
+    return;
+  }
+  s << "<rect x=\"" << F(f.px) << "\" y=\"" << F(f.py) << "\" width=\"" << F(f.pw) << "\" height=\""
+    << F(f.ph) << "\" fill=\"#fafafa\" stroke=\"" << kAxisColor << "\"/>\n";
+  // Word-wrapped message (about 7.5 px a character at 14 px).
+  const std::string message = panel.message.empty() ? "nothing to plot" : panel.message;
+  const std::size_t max_chars = static_cast<std::size_t>(std::max(10.0, f.pw / 7.8));
+  std::vector<std::string> lines(1);
+  std::istringstream words(message);
+  for (std::string word; words >> word;) {
+    if (!lines.back().empty() && lines.back().size() + 1 + word.size() > max_chars) {
+      lines.emplace_back();
+    }
+    lines.back() += (lines.back().empty() ? "" : " ") + word;
+  }
+  const double y_first = f.py + f.ph / 2 - 10.0 * (lines.size() - 1);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    Text(s, f.px + f.pw / 2, y_first + 20.0 * i, lines[i], 14, "middle", "fill=\"#aa3333\"");
+  }
+}
+
+void SvgHeader(std::ostringstream& s, double W, double H) {
+  s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"" << kFont << "\">\n"
+    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+}
+
 }  // namespace
 
 bool ParsePlotPlane(const std::string& name, PlotPlane* plane) {
@@ -265,13 +330,71 @@ std::vector<double> NiceTicks(double lo, double hi, int target) {
   return ticks;
 }
 
+std::string RenderSeriesFigureSvg(const SeriesFigure& figure) {
+  const int columns = std::max(1, figure.columns);
+  const int rows = std::max<int>(1, (figure.panels.size() + columns - 1) / columns);
+  const double W = std::max(600, figure.width), H = 70 + rows * std::max(240, figure.panel_height);
+  std::ostringstream s;
+  SvgHeader(s, W, H);
+  Text(s, W / 2, 30, figure.title, 18, "middle", "font-weight=\"bold\"");
+  if (!figure.subtitle.empty()) {
+    Text(s, W / 2, 50, figure.subtitle, 12, "middle", "fill=\"#555555\"");
+  }
+  const double cell_w = W / columns, cell_h = (H - 70) / rows;
+  for (std::size_t i = 0; i < figure.panels.size(); ++i) {
+    const double cx = cell_w * (i % columns), cy = 70 + cell_h * (i / columns);
+    const SeriesPanel& panel = figure.panels[i];
+    std::vector<LegendEntry> legend;
+    for (const PlotSeries& series : panel.series) legend.push_back({series.label, "", 'l'});
+    const int legend_rows = LegendRows(legend, cell_w - 112);
+    Frame f;
+    f.px = cx + 82;
+    f.py = cy + 56 + kLegendRowHeight * std::max(0, legend_rows - 1);
+    f.pw = cell_w - 112;
+    f.ph = cy + cell_h - 52 - f.py;
+    const std::string clip = "clipS" + std::to_string(i);
+    s << "<defs><clipPath id=\"" << clip << "\"><rect x=\"" << F(f.px - 4) << "\" y=\""
+      << F(f.py - 4) << "\" width=\"" << F(f.pw + 8) << "\" height=\"" << F(f.ph + 8)
+      << "\"/></clipPath></defs>\n";
+    DrawSeriesPanel(s, f, cy + 20, cy + 42, panel, clip);
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
+std::string StackSvgDocuments(const std::vector<std::string>& documents) {
+  double W = 0.0, H = 0.0;
+  std::vector<std::pair<std::string, double>> bodies;  // the inner <svg ...>...</svg>, its height
+  for (const std::string& d : documents) {
+    const std::size_t open = d.find("<svg");
+    double w = 0.0, h = 0.0;
+    if (open == std::string::npos ||
+        std::sscanf(d.c_str() + open,
+                    "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%lf\" "
+                    "height=\"%lf\"",
+                    &w, &h) != 2) {
+      throw std::invalid_argument("StackSvgDocuments: not a document of this plotter");
+    }
+    bodies.emplace_back(d.substr(open), h);
+    W = std::max(W, w);
+    H += h;
+  }
+  std::ostringstream s;
+  SvgHeader(s, W, H);
+  double y = 0.0;
+  for (const auto& [body, h] : bodies) {
+    // A nested <svg> keeps its own viewport: placed at y by a group.
+    s << "<g transform=\"translate(0," << F(y) << ")\">\n" << body << "</g>\n";
+    y += h;
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
 std::string RenderTrajectoryPlotSvg(const TrajectoryPlot& plot) {
   const double W = std::max(600, plot.width), H = std::max(360, plot.height);
   std::ostringstream s;
-  s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-    << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"" << kFont << "\">\n"
-    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  SvgHeader(s, W, H);
   Text(s, W / 2, 30, plot.title, 18, "middle", "font-weight=\"bold\"");
   if (!plot.subtitle.empty()) Text(s, W / 2, 50, plot.subtitle, 12, "middle", "fill=\"#555555\"");
 
@@ -358,52 +481,14 @@ std::string RenderTrajectoryPlotSvg(const TrajectoryPlot& plot) {
   Legend(s, left.px, 104, left.pw, left_legend);
 
   // ---- Right panel: error along the trajectory. ----
-  Text(s, right.px + right.pw / 2, 82, plot.error_title, 14, "middle", "font-weight=\"bold\"");
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-  for (const PlotSeries& series : plot.error_series) {
-    for (const Eigen::Vector2d& p : series.points) {
-      if (!p.allFinite()) continue;
-      x0 = std::min(x0, p.x());
-      x1 = std::max(x1, p.x());
-      y0 = std::min(y0, p.y());
-      y1 = std::max(y1, p.y());
-    }
-  }
-  if (x1 >= x0) {
-    y0 = std::min(y0, 0.0);  // errors: show the zero line
-    y1 = y1 + 0.06 * (y1 - y0);
-    NonEmptyRange(&x0, &x1);
-    NonEmptyRange(&y0, &y1);
-    right.x0 = x0;
-    right.x1 = x1;
-    right.y0 = y0;
-    right.y1 = y1;
-    Axes(s, right, plot.error_x_label, plot.error_y_label);
-    for (const PlotSeries& series : plot.error_series) {
-      if (series.line) Polyline(s, right, series.points, series.color, 1.6, "clipR");
-      if (series.markers) Dots(s, right, series.points, series.color, "clipR");
-    }
-    Legend(s, right.px, 104, right.pw, right_legend);
-  } else {
-    s << "<rect x=\"" << F(right.px) << "\" y=\"" << F(right.py) << "\" width=\"" << F(right.pw)
-      << "\" height=\"" << F(right.ph) << "\" fill=\"#fafafa\" stroke=\"" << kAxisColor << "\"/>\n";
-    // Word-wrapped message (about 7.5 px a character at 14 px).
-    const std::string message = plot.error_message.empty() ? "nothing to plot" : plot.error_message;
-    const std::size_t max_chars = static_cast<std::size_t>(std::max(10.0, right.pw / 7.8));
-    std::vector<std::string> lines(1);
-    std::istringstream words(message);
-    for (std::string word; words >> word;) {
-      if (!lines.back().empty() && lines.back().size() + 1 + word.size() > max_chars) {
-        lines.emplace_back();
-      }
-      lines.back() += (lines.back().empty() ? "" : " ") + word;
-    }
-    const double y_first = right.py + right.ph / 2 - 10.0 * (lines.size() - 1);
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      Text(s, right.px + right.pw / 2, y_first + 20.0 * i, lines[i], 14, "middle",
-           "fill=\"#aa3333\"");
-    }
-  }
+  SeriesPanel panel;
+  panel.title = plot.error_title;
+  panel.x_label = plot.error_x_label;
+  panel.y_label = plot.error_y_label;
+  panel.series = plot.error_series;
+  panel.message = plot.error_message;
+  panel.zero_line = true;
+  DrawSeriesPanel(s, right, 82, 104, panel, "clipR");
   s << "</svg>\n";
   return s.str();
 }

@@ -51,6 +51,29 @@ struct TrajectoryPlot {
   int height = 640;
 };
 
+// A panel of series against a common x (time, distance), as the right panel above.
+struct SeriesPanel {
+  std::string title, x_label, y_label;
+  std::vector<PlotSeries> series;
+  std::string message;     // shown when no series has a point
+  bool zero_line = false;  // the y range includes 0 (errors)
+};
+
+// Panels in a grid of `columns`, row by row, under a title.
+struct SeriesFigure {
+  std::string title, subtitle;
+  std::vector<SeriesPanel> panels;
+  int columns = 3;
+  int width = 1280;        // pixels
+  int panel_height = 320;  // pixels per row
+};
+
+std::string RenderSeriesFigureSvg(const SeriesFigure& figure);
+
+// Documents of this plotter (RenderTrajectoryPlotSvg, RenderSeriesFigureSvg) one below the other
+// in one SVG document. Throws std::invalid_argument for other text.
+std::string StackSvgDocuments(const std::vector<std::string>& documents);
+
 // The two coordinate indices (0 x, 1 y, 2 z) drawn horizontally and vertically. kAuto drops the
 // axis of smallest extent of `positions` (x-z for a KITTI cam0 trajectory, x-y for most others).
 std::pair<int, int> PlotAxes(const std::vector<Eigen::Vector3d>& positions, PlotPlane plane);

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
 #include "plucker/eval/alignment.h"
 #include "plucker/eval/eval_test_utils.h"
 
@@ -90,6 +94,52 @@ TEST(Plot, DegenerateInputStillRendersWithoutNaN) {
   EXPECT_EQ(svg.find("nan"), std::string::npos);
   EXPECT_EQ(svg.find("inf"), std::string::npos);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
+}
+
+TEST(Plot, SeriesFigureHasEveryPanelAndItsSeries) {
+  SeriesFigure figure;
+  figure.title = "biases <est> & gt";
+  for (int p = 0; p < 4; ++p) {
+    SeriesPanel panel;
+    panel.title = "panel " + std::to_string(p);
+    panel.y_label = "unit " + std::to_string(p);
+    for (int k = 0; k < 2; ++k) {
+      PlotSeries series;
+      series.label = "series " + std::to_string(k);
+      for (int i = 0; i < 50; ++i) series.points.emplace_back(i, std::sin(0.1 * i + p + k));
+      panel.series.push_back(series);
+    }
+    figure.panels.push_back(panel);
+  }
+  SeriesPanel empty;
+  empty.title = "empty";
+  empty.message = "no ground truth biases";
+  figure.panels.push_back(empty);
+  const std::string svg = RenderSeriesFigureSvg(figure);
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  EXPECT_NE(svg.find("biases &lt;est&gt; &amp; gt"), std::string::npos);
+  EXPECT_EQ(Count(svg, "<polyline"), 8);
+  for (int p = 0; p < 4; ++p) EXPECT_NE(svg.find("unit " + std::to_string(p)), std::string::npos);
+  EXPECT_NE(svg.find("no ground truth biases"), std::string::npos);
+  EXPECT_EQ(Count(svg, "<clipPath"), 5);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  // Two rows of three: 70 + 2 * 320 pixels high.
+  EXPECT_NE(svg.find("height=\"710\""), std::string::npos);
+}
+
+TEST(Plot, StackedDocumentsAreOneSvgAsHighAsBoth) {
+  const std::string a = RenderTrajectoryPlotSvg(SomePlot());
+  SeriesFigure figure;
+  figure.panels.resize(2);
+  const std::string b = RenderSeriesFigureSvg(figure);
+  const std::string svg = StackSvgDocuments({a, b});
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  EXPECT_EQ(Count(svg, "<?xml"), 1);
+  EXPECT_EQ(Count(svg, "<svg"), 3);
+  EXPECT_EQ(Count(svg, "</svg>"), 3);
+  EXPECT_NE(svg.find("height=\"1030\""), std::string::npos);  // 640 + 390
+  EXPECT_NE(svg.find("translate(0,640"), std::string::npos);
+  EXPECT_THROW(StackSvgDocuments({"<html/>"}), std::invalid_argument);
 }
 
 }  // namespace
