@@ -16,6 +16,7 @@ namespace vision {
 namespace {
 
 using sensor::testing::EurocCam0;
+using sensor::testing::TumViCam0;
 
 // Draws the image of the 3D segment a-b (camera frame) through the camera's distorted model: a
 // dense anti-aliased polyline of projected points, 4 px wide.
@@ -107,6 +108,63 @@ TEST(Undistorter, StraightLineComesOutStraight) {
   EXPECT_LT(after.max_fit_residual, 0.5);
   EXPECT_LT(after.max_truth_error, 0.5);
   EXPECT_LT(after.mean_truth_error, 0.25);
+}
+
+// The same on the TUM-VI fisheye (equidistant): a line well off the centre, strongly bent in the
+// raw image, is straight where the pinhole of the camera's K puts it.
+TEST(Undistorter, FisheyeStraightLineComesOutStraight) {
+  const sensor::Camera camera = TumViCam0();
+  const Eigen::Vector3d a(-1.6, -1.0, 2.0), b(1.6, -1.0, 2.0);
+  const cv::Mat raw = DrawDistortedLine(camera, a, b);
+  const Undistorter undistorter(camera);
+  EXPECT_FALSE(undistorter.IsIdentity());
+  const cv::Mat ideal = undistorter.Undistort(raw);
+  ASSERT_EQ(ideal.size(), raw.size());
+  const sensor::Camera pinhole = undistorter.ideal_camera();
+  EXPECT_TRUE(pinhole.IsPinhole());
+  const Eigen::Vector2d pa = *pinhole.Project(a), pb = *pinhole.Project(b);
+  const double truth_a = (pb.y() - pa.y()) / (pb.x() - pa.x());
+  const double truth_b = pa.y() - truth_a * pa.x();
+  const Eigen::Vector2d ra = *camera.Project(a), rb = *camera.Project(b);
+  const Straightness before =
+      Measure(raw, cvCeil(ra.x()) + 5, cvFloor(rb.x()) - 5, truth_a, truth_b);
+  // The pinhole view of the segment, inside the image (it spans more than the view's width).
+  const int u0 = std::max(cvCeil(pa.x()) + 5, 5), u1 = std::min(cvFloor(pb.x()) - 5, 506);
+  const Straightness after = Measure(ideal, u0, u1, truth_a, truth_b);
+  std::printf(
+      "fisheye raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
+      "residual %.3f px, distance to the pinhole image max %.3f px mean %.3f px\n",
+      before.columns, before.max_fit_residual, after.columns, after.max_fit_residual,
+      after.max_truth_error, after.mean_truth_error);
+  EXPECT_GT(before.columns, 200);
+  EXPECT_GT(after.columns, 400);
+  EXPECT_GT(before.max_fit_residual, 10.0);
+  EXPECT_LT(after.max_fit_residual, 0.5);
+  EXPECT_LT(after.max_truth_error, 0.5);
+  EXPECT_LT(after.mean_truth_error, 0.25);
+}
+
+// Fisheye point mapping: raw <-> ideal round trips, and a dot drawn at the raw position of an
+// ideal pixel peaks there after undistortion (the maps and the model agree).
+TEST(Undistorter, FisheyePointMappingMatchesTheImage) {
+  const sensor::Camera camera = TumViCam0();
+  const Undistorter undistorter(camera);
+  for (const Eigen::Vector2d& ideal : {Eigen::Vector2d(40, 30), Eigen::Vector2d(470, 480),
+                                       Eigen::Vector2d(255, 257), Eigen::Vector2d(100, 400)}) {
+    const auto raw_uv = undistorter.RawFromIdeal(ideal);
+    ASSERT_TRUE(raw_uv.has_value());
+    EXPECT_LT((*undistorter.IdealFromRaw(*raw_uv) - ideal).norm(), 1e-6);
+    cv::Mat raw(camera.height, camera.width, CV_8UC1, cv::Scalar(0));
+    cv::circle(raw, cv::Point(cvRound(raw_uv->x() * 16), cvRound(raw_uv->y() * 16)), 8,
+               cv::Scalar(255), -1, cv::LINE_AA, 4);
+    const cv::Moments m = cv::moments(undistorter.Undistort(raw));
+    ASSERT_GT(m.m00, 0);
+    // The pinhole view magnifies the periphery (1 / cos^2): the dot's centroid moves outwards a
+    // little more than in the radtan case.
+    EXPECT_LT((Eigen::Vector2d(m.m10 / m.m00, m.m01 / m.m00) - ideal).norm(), 0.4);
+  }
+  // A raw pixel beyond the lens's valid angle (TUM-VI's corners) has no ideal pixel.
+  EXPECT_FALSE(undistorter.IdealFromRaw(Eigen::Vector2d(0, 0)).has_value());
 }
 
 TEST(Undistorter, PointMappingMatchesTheImage) {
