@@ -363,7 +363,7 @@ expect vo-images-no-calib nonzero "needs --calib calib.txt.* or --sensor" -- \
   "$PLUCKER" vo --images "$T/img" --out "$T/vo_x.txt"
 expect vo-two-sources nonzero "excludes" -- \
   "$PLUCKER" vo --images "$T/img" --features "$T/cam" --calib "$T/one_pose.txt" --out "$T/vo_x.txt"
-expect vo-no-source nonzero "give --features DIR or --images DIR" -- \
+expect vo-no-source nonzero "give --features DIR, --images DIR or --bag FILE" -- \
   "$PLUCKER" vo --out "$T/vo_x.txt"
 
 # plucker sfm: bad input (small images made here; each case fails or skips a view, naming the file).

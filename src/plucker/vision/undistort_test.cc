@@ -114,7 +114,7 @@ TEST(Undistorter, StraightLineComesOutStraight) {
 // raw image, is straight where the pinhole of the camera's K puts it.
 TEST(Undistorter, FisheyeStraightLineComesOutStraight) {
   const sensor::Camera camera = TumViCam0();
-  const Eigen::Vector3d a(-1.6, -1.0, 2.0), b(1.6, -1.0, 2.0);
+  const Eigen::Vector3d a(-3.0, -1.2, 2.0), b(3.0, -1.2, 2.0);
   const cv::Mat raw = DrawDistortedLine(camera, a, b);
   const Undistorter undistorter(camera);
   EXPECT_FALSE(undistorter.IsIdentity());
@@ -137,8 +137,9 @@ TEST(Undistorter, FisheyeStraightLineComesOutStraight) {
       before.columns, before.max_fit_residual, after.columns, after.max_fit_residual,
       after.max_truth_error, after.mean_truth_error);
   EXPECT_GT(before.columns, 200);
-  EXPECT_GT(after.columns, 400);
-  EXPECT_GT(before.max_fit_residual, 10.0);
+  EXPECT_GT(after.columns, 450);
+  EXPECT_GT(before.max_fit_residual, 10.0);  // measured 19.7 px: a strong curve
+  // Measured: 0.42 px max fit residual, 0.40 px max / 0.15 px mean from the pinhole image.
   EXPECT_LT(after.max_fit_residual, 0.5);
   EXPECT_LT(after.max_truth_error, 0.5);
   EXPECT_LT(after.mean_truth_error, 0.25);
