@@ -579,6 +579,16 @@ if [ -d "$KITTI_LIDAR/velodyne" ]; then
 else
   echo "skip bag-from-kitti, lidar-bag-kitti-*: no KITTI extract at $KITTI_LIDAR"
 fi
+# euroc_head SRC DST N: a EuRoC folder of the first N frames of SRC (and its whole IMU log).
+euroc_head() {
+  mkdir -p "$2/mav0/cam0/data"
+  cp -r "$1/mav0/imu0" "$2/mav0/"
+  cp "$1/mav0/cam0/sensor.yaml" "$2/mav0/cam0/"
+  head -$(($3 + 1)) "$1/mav0/cam0/data.csv" > "$2/mav0/cam0/data.csv"
+  for f in $(tail -n +2 "$2/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
+    cp "$1/mav0/cam0/data/$f" "$2/mav0/cam0/data/"
+  done
+}
 EUROC_HEAD="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-v101-head"
 if [ -d "$EUROC_HEAD/mav0" ]; then
   expect bag-from-euroc 0 "95 images on /cam0/image_raw, 29120 IMU samples on /imu0" -- \
@@ -590,13 +600,7 @@ if [ -d "$EUROC_HEAD/mav0" ]; then
   # vio --bag and vo --bag (docs/bags.md): the first 40 frames of the head written as a bag give
   # byte-identical poses to the folder; the stamps are the folder's nanoseconds.
   BE="$T/beuroc/mav0"
-  mkdir -p "$BE/cam0/data"
-  cp -r "$EUROC_HEAD/mav0/imu0" "$BE/"
-  cp "$EUROC_HEAD/mav0/cam0/sensor.yaml" "$BE/cam0/"
-  head -41 "$EUROC_HEAD/mav0/cam0/data.csv" > "$BE/cam0/data.csv"
-  for f in $(tail -n +2 "$BE/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
-    cp "$EUROC_HEAD/mav0/cam0/data/$f" "$BE/cam0/data/"
-  done
+  euroc_head "$EUROC_HEAD" "$T/beuroc" 40
   "$PLUCKER" bag from-euroc "$T/beuroc" "$T/beuroc.bag" --quiet
   CAM0="$BE/cam0/sensor.yaml"
   IMU0="$BE/imu0/sensor.yaml"
@@ -670,13 +674,7 @@ fi
 MH05="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-mh05-clip"
 if [ -d "$MH05/mav0" ]; then
   ME="$T/mh05/mav0"
-  mkdir -p "$ME/cam0/data"
-  cp -r "$MH05/mav0/imu0" "$ME/"
-  cp "$MH05/mav0/cam0/sensor.yaml" "$ME/cam0/"
-  head -51 "$MH05/mav0/cam0/data.csv" > "$ME/cam0/data.csv"
-  for f in $(tail -n +2 "$ME/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
-    cp "$MH05/mav0/cam0/data/$f" "$ME/cam0/data/"
-  done
+  euroc_head "$MH05" "$T/mh05" 50
   "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05.bag" --quiet
   MCAM0="$ME/cam0/sensor.yaml"
   KD="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/data/kalibr"
@@ -692,6 +690,14 @@ if [ -d "$MH05/mav0" ]; then
   expect vo-kalibr 0 "" -- "$PLUCKER" vo --images "$ME/cam0/data" --quiet \
     --calib "$KD/euroc-camchain.yaml" --out "$T/bvo_k.txt"
   expect vo-kalibr-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_k.txt"
+  # lines track with a distorted camera: the images undistorted first (docs/cli.md), the same
+  # tracks from the EuRoC sensor.yaml and from the Kalibr camchain of its numbers.
+  expect lines-track-sensor 0 "" -- "$PLUCKER" lines track --images "$ME/cam0/data" \
+    --sensor "$MCAM0" --max-frames 8 --out "$T/lt_sensor" --quiet
+  expect lines-track-kalibr 0 "" -- "$PLUCKER" lines track --images "$ME/cam0/data" \
+    --calib "$KD/euroc-camchain.yaml" --max-frames 8 --out "$T/lt_kalibr" --quiet
+  expect lines-track-kalibr-same 0 "" -- diff -r "$T/lt_sensor" "$T/lt_kalibr"
+  expect lines-track-sensor-has-segments 0 "^[1-9][0-9]+$" -- bash -c "wc -l < '$T/lt_sensor/segments.txt'"
   sed 's/camera_model: pinhole/camera_model: omni/' "$KD/euroc-camchain.yaml" > "$T/omni.yaml"
   expect vo-kalibr-omni nonzero "omni.yaml.*omni" -- \
     "$PLUCKER" vo --images "$ME/cam0/data" --calib "$T/omni.yaml" --out "$T/x.txt"

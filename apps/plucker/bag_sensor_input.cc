@@ -14,6 +14,18 @@ constexpr std::size_t kMaxWarnings = 100;
 
 }  // namespace
 
+CLI::Option* AddBagFlags(CLI::App* cmd, BagFlags* flags, bool imu, const std::string& bag_help) {
+  CLI::Option* bag = cmd->add_option("--bag", flags->bag, bag_help);
+  cmd->add_option("--image-topic", flags->image_topic,
+                  "Image topic of --bag (sensor_msgs/Image mono8/bgr8/rgb8 or CompressedImage)");
+  if (imu) cmd->add_option("--imu-topic", flags->imu_topic, "sensor_msgs/Imu topic of --bag");
+  cmd->add_option("--stamp", flags->stamp,
+                  "Time of the --bag messages: header (header.stamp) or receive (record time)")
+      ->check(CLI::IsMember({"header", "receive"}))
+      ->capture_default_str();
+  return bag;
+}
+
 struct BagSensorStream::Impl {
   std::string path, image_topic, imu_topic;
   bag::StampSource stamp = bag::StampSource::kHeader;

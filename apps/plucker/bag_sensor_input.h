@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 
 #include "plucker/bag/bag_reader.h"
@@ -21,6 +22,13 @@
 
 namespace plucker {
 namespace app {
+
+// The flags of a bag input: --bag FILE, --image-topic T, --imu-topic T (imu), --stamp
+// header|receive. Returns the --bag option.
+struct BagFlags {
+  std::string bag, image_topic, imu_topic, stamp = "header";
+};
+CLI::Option* AddBagFlags(CLI::App* cmd, BagFlags* flags, bool imu, const std::string& bag_help);
 
 struct BagItem {
   bool is_imu = false;

@@ -192,18 +192,11 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       "Features folder: rig.txt, imu.txt, points.txt, segments.txt (docs/sim-format.md)");
   CLI::Option* euroc =
       cmd->add_option("--euroc", args->euroc, "EuRoC folder (mav0/cam0 images, mav0/imu0)");
-  CLI::Option* bag = cmd->add_option("--bag", args->bag.bag,
-                                     "ROS 1 bag (--image-topic, --imu-topic; the calibration "
-                                     "from --sensor/--calib and --imu-sensor/--imu-calib)");
+  CLI::Option* bag = AddBagFlags(cmd, &args->bag, true,
+                                 "ROS 1 bag (--image-topic, --imu-topic; the calibration from "
+                                 "--sensor/--calib and --imu-sensor/--imu-calib)");
   features->excludes(euroc);
   bag->excludes(features)->excludes(euroc);
-  cmd->add_option("--image-topic", args->bag.image_topic,
-                  "Image topic of --bag (sensor_msgs/Image mono8/bgr8/rgb8 or CompressedImage)");
-  cmd->add_option("--imu-topic", args->bag.imu_topic, "sensor_msgs/Imu topic of --bag");
-  cmd->add_option("--stamp", args->bag.stamp,
-                  "Time of the --bag messages: header (header.stamp) or receive (record time)")
-      ->check(CLI::IsMember({"header", "receive"}))
-      ->capture_default_str();
   AddCameraFlags(cmd, &args->camera, CameraFlagSet{false, true});
   cmd->add_option("--out", args->out,
                   "Output TUM trajectory of the body frame T_w_b, refined: the frames before "

@@ -62,7 +62,7 @@ int Run(const VoArgs& a, VoConfig config) {
   mallopt(M_TRIM_THRESHOLD, 128 << 20);
   const double t_start = WallMs();
   std::vector<std::string> inputs = CameraFlagFiles(a.images.camera);
-  inputs.insert(inputs.end(), {a.images.bag, a.config});
+  inputs.insert(inputs.end(), {a.images.bag.bag, a.config});
   RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json});
   const bool images = a.features.empty();
   std::vector<window::FrameInput> frames;
@@ -163,17 +163,11 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   CLI::Option* images = cmd->add_option(
       "--images", args->images.images,
       "Image folder (image files in name order; undistorted, or with --sensor distorted)");
-  CLI::Option* bag = cmd->add_option("--bag", args->images.bag,
-                                     "ROS 1 bag: the images of --image-topic (calibration from "
-                                     "--sensor or --calib)");
+  CLI::Option* bag = AddBagFlags(cmd, &args->images.bag, false,
+                                 "ROS 1 bag: the images of --image-topic (calibration from "
+                                 "--sensor or --calib)");
   features->excludes(images);
   bag->excludes(features)->excludes(images);
-  cmd->add_option("--image-topic", args->images.image_topic,
-                  "Image topic of --bag (sensor_msgs/Image mono8/bgr8/rgb8 or CompressedImage)");
-  cmd->add_option("--stamp", args->images.stamp,
-                  "Time of the --bag messages: header (header.stamp) or receive (record time)")
-      ->check(CLI::IsMember({"header", "receive"}))
-      ->capture_default_str();
   AddCameraFlags(cmd, &args->images.camera, CameraFlagSet{});
   cmd->add_option("--rate", args->images.frame_rate_hz, "Frame rate of --images (frame times)")
       ->check(CLI::PositiveNumber)
@@ -229,17 +223,17 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
     RunGuarded("vo", exit_code, [&] {
       const VoImageSource& im = args->images;
-      if (!args->features.empty() + !im.images.empty() + !im.bag.empty() != 1) {
+      if (!args->features.empty() + !im.images.empty() + !im.bag.bag.empty() != 1) {
         throw std::invalid_argument("give --features DIR, --images DIR or --bag FILE");
       }
       if (args->features.empty() && !HasCameraFlag(im.camera)) {
-        throw std::invalid_argument(std::string(im.bag.empty() ? "--images" : "--bag") +
+        throw std::invalid_argument(std::string(im.bag.bag.empty() ? "--images" : "--bag") +
                                     " needs --calib calib.txt|camchain.yaml or --sensor "
                                     "sensor.yaml");
       }
       if (!args->features.empty() && HasCameraFlag(im.camera))
         throw std::invalid_argument("--sensor, --calib apply to --images and --bag");
-      if (!im.bag.empty() && !args->draw.empty())
+      if (!im.bag.bag.empty() && !args->draw.empty())
         throw std::invalid_argument("--draw needs --images (it reads the image files)");
       // Defaults (images: ImageVoConfig), then the file, then the flags given.
       VoConfig config = args->features.empty() ? ImageVoConfig() : FeaturesVoConfig();

@@ -40,9 +40,7 @@ class VioStream {
 // The frames and IMU samples of a folder's VioInput (which must outlive the stream).
 std::unique_ptr<VioStream> MakeFolderVioStream(const VioInput& in);
 
-struct VioBagSource {
-  std::string bag, image_topic, imu_topic, stamp = "header";
-};
+using VioBagSource = BagFlags;  // --bag, --image-topic, --imu-topic, --stamp
 
 // A bag: *in gets the calibration of `calib` (its T_b_c and IMU model required), the bag as
 // source and the first IMU stamp as clock origin (times are seconds since it, the camera's

@@ -30,13 +30,14 @@ std::vector<window::FrameInput> VoFeatureFrames(const sensor::CameraImuSequence&
 
 VoImageStream::VoImageStream(const VoImageSource& s) : rate_hz_(s.frame_rate_hz) {
   int width = 0, height = 0;
-  if (!s.bag.empty()) {
-    if (s.image_topic.empty()) throw std::invalid_argument("--bag needs --image-topic T");
-    source_ = s.bag;
-    bag_ = std::make_unique<BagSensorStream>(s.bag, s.image_topic, "", s.stamp);
+  if (!s.bag.bag.empty()) {
+    const BagFlags& b = s.bag;
+    if (b.image_topic.empty()) throw std::invalid_argument("--bag needs --image-topic T");
+    source_ = b.bag;
+    bag_ = std::make_unique<BagSensorStream>(b.bag, b.image_topic, "", b.stamp);
     BagItem item;
     if (!bag_->Next(&item))
-      throw io::IoError(s.bag, "topic " + s.image_topic + ": no readable image message");
+      throw io::IoError(b.bag, "topic " + b.image_topic + ": no readable image message");
     first_ns_ = item.stamp_ns;
     width = item.image.cols, height = item.image.rows;
     first_ = VoImage{0.0, std::move(item.image), std::move(item.name), std::move(item.problem)};

@@ -23,8 +23,8 @@ namespace app {
 std::vector<window::FrameInput> VoFeatureFrames(const sensor::CameraImuSequence& seq, int stride);
 
 struct VoImageSource {
-  std::string images;                              // a folder of images, or
-  std::string bag, image_topic, stamp = "header";  // a bag's image topic
+  std::string images;           // a folder of images, or
+  BagFlags bag;                 // or a bag's image topic
   CameraFlags camera;           // --sensor, --calib (KITTI calib.txt or Kalibr camchain)
   double frame_rate_hz = 10.0;  // folders: frame times i / rate (the folder has none)
 };

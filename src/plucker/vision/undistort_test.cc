@@ -73,32 +73,46 @@ Straightness Measure(const cv::Mat& image, int u0, int u1, double truth_a, doubl
   return s;
 }
 
-// A straight 3D line near the top of the EuRoC image, imaged through the distorted model, is
-// curved in the raw image and straight, where the ideal pinhole puts it, after undistortion.
-TEST(Undistorter, StraightLineComesOutStraight) {
-  const sensor::Camera camera = EurocCam0();
-  const Eigen::Vector3d a(-2.0, -1.1, 3.0), b(2.0, -1.3, 3.0);
+struct BeforeAfter {
+  Straightness before, after;
+};
+
+// The 3D segment a-b (camera frame) drawn through the camera's lens model, undistorted with the
+// default output (the camera's K and size), and measured against the ideal pinhole image of the
+// line v = truth_a u + truth_b, in the raw image and after undistortion (columns inside the
+// segment, away from its round caps, and inside the image).
+BeforeAfter MeasureUndistortedLine(const char* name, const sensor::Camera& camera,
+                                   const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const cv::Mat raw = DrawDistortedLine(camera, a, b);
   const Undistorter undistorter(camera);
   EXPECT_FALSE(undistorter.IsIdentity());
   const cv::Mat ideal = undistorter.Undistort(raw);
-  ASSERT_EQ(ideal.size(), raw.size());
-  // The ideal pinhole image of the line: v = truth_a u + truth_b through the projections of a, b.
+  EXPECT_EQ(ideal.size(), raw.size());
   const sensor::Camera pinhole = undistorter.ideal_camera();
+  EXPECT_TRUE(pinhole.IsPinhole());
   const Eigen::Vector2d pa = *pinhole.Project(a), pb = *pinhole.Project(b);
   const double truth_a = (pb.y() - pa.y()) / (pb.x() - pa.x());
   const double truth_b = pa.y() - truth_a * pa.x();
-  // Columns inside the segment (away from its round caps).
   const Eigen::Vector2d ra = *camera.Project(a), rb = *camera.Project(b);
-  const Straightness before =
-      Measure(raw, cvCeil(ra.x()) + 5, cvFloor(rb.x()) - 5, truth_a, truth_b);
-  const Straightness after =
-      Measure(ideal, cvCeil(pa.x()) + 5, cvFloor(pb.x()) - 5, truth_a, truth_b);
+  const int last = camera.width - 6;
+  BeforeAfter r;
+  r.before = Measure(raw, std::max(cvCeil(ra.x()) + 5, 5), std::min(cvFloor(rb.x()) - 5, last),
+                     truth_a, truth_b);
+  r.after = Measure(ideal, std::max(cvCeil(pa.x()) + 5, 5), std::min(cvFloor(pb.x()) - 5, last),
+                    truth_a, truth_b);
   std::printf(
-      "raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
+      "%s raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
       "residual %.3f px, distance to the pinhole image max %.3f px mean %.3f px\n",
-      before.columns, before.max_fit_residual, after.columns, after.max_fit_residual,
-      after.max_truth_error, after.mean_truth_error);
+      name, r.before.columns, r.before.max_fit_residual, r.after.columns, r.after.max_fit_residual,
+      r.after.max_truth_error, r.after.mean_truth_error);
+  return r;
+}
+
+// A straight 3D line near the top of the EuRoC image, imaged through the distorted model, is
+// curved in the raw image and straight, where the ideal pinhole puts it, after undistortion.
+TEST(Undistorter, StraightLineComesOutStraight) {
+  const auto [before, after] = MeasureUndistortedLine(
+      "radtan", EurocCam0(), Eigen::Vector3d(-2.0, -1.1, 3.0), Eigen::Vector3d(2.0, -1.3, 3.0));
   EXPECT_GT(before.columns, 450);
   EXPECT_GT(after.columns, 550);
   EXPECT_GT(before.max_fit_residual, 5.0);  // the raw image of the line is a curve
@@ -111,31 +125,10 @@ TEST(Undistorter, StraightLineComesOutStraight) {
 }
 
 // The same on the TUM-VI fisheye (equidistant): a line well off the centre, strongly bent in the
-// raw image, is straight where the pinhole of the camera's K puts it.
+// raw image, is straight where the pinhole of the camera's K puts it (across the whole view).
 TEST(Undistorter, FisheyeStraightLineComesOutStraight) {
-  const sensor::Camera camera = TumViCam0();
-  const Eigen::Vector3d a(-3.0, -1.2, 2.0), b(3.0, -1.2, 2.0);
-  const cv::Mat raw = DrawDistortedLine(camera, a, b);
-  const Undistorter undistorter(camera);
-  EXPECT_FALSE(undistorter.IsIdentity());
-  const cv::Mat ideal = undistorter.Undistort(raw);
-  ASSERT_EQ(ideal.size(), raw.size());
-  const sensor::Camera pinhole = undistorter.ideal_camera();
-  EXPECT_TRUE(pinhole.IsPinhole());
-  const Eigen::Vector2d pa = *pinhole.Project(a), pb = *pinhole.Project(b);
-  const double truth_a = (pb.y() - pa.y()) / (pb.x() - pa.x());
-  const double truth_b = pa.y() - truth_a * pa.x();
-  const Eigen::Vector2d ra = *camera.Project(a), rb = *camera.Project(b);
-  const Straightness before =
-      Measure(raw, cvCeil(ra.x()) + 5, cvFloor(rb.x()) - 5, truth_a, truth_b);
-  // The pinhole view of the segment, inside the image (it spans more than the view's width).
-  const int u0 = std::max(cvCeil(pa.x()) + 5, 5), u1 = std::min(cvFloor(pb.x()) - 5, 506);
-  const Straightness after = Measure(ideal, u0, u1, truth_a, truth_b);
-  std::printf(
-      "fisheye raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
-      "residual %.3f px, distance to the pinhole image max %.3f px mean %.3f px\n",
-      before.columns, before.max_fit_residual, after.columns, after.max_fit_residual,
-      after.max_truth_error, after.mean_truth_error);
+  const auto [before, after] = MeasureUndistortedLine(
+      "fisheye", TumViCam0(), Eigen::Vector3d(-3.0, -1.2, 2.0), Eigen::Vector3d(3.0, -1.2, 2.0));
   EXPECT_GT(before.columns, 200);
   EXPECT_GT(after.columns, 450);
   EXPECT_GT(before.max_fit_residual, 10.0);  // measured 19.7 px: a strong curve
