@@ -229,15 +229,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, stride, window, estimate_extrinsic, estimate_td]() {
     RunGuarded("vio", exit_code, [&] {
-      if (!args->features.empty() + !args->euroc.empty() + !args->bag.bag.empty() != 1) {
-        throw std::invalid_argument("give --features DIR, --euroc DIR or --bag FILE");
-      }
-      const CameraFlags& c = args->camera;
-      if (!args->features.empty() &&
-          (HasCameraFlag(c) || !c.imu_sensor.empty() || !c.imu_calib.empty()))
-        throw std::invalid_argument(
-            "--sensor, --calib, --imu-sensor, --imu-calib apply to --euroc and --bag (a features "
-            "folder has its rig.txt)");
+      CheckVioSources(args->features, args->euroc, args->bag, args->camera);
       // The configuration file, then what the command line gives explicitly.
       if (!args->config.empty()) ApplyVioConfig(args->config, &args->cfg);
       if (stride->count() > 0) args->cfg.point_stride = args->point_stride;

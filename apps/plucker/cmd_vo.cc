@@ -222,19 +222,7 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
     RunGuarded("vo", exit_code, [&] {
-      const VoImageSource& im = args->images;
-      if (!args->features.empty() + !im.images.empty() + !im.bag.bag.empty() != 1) {
-        throw std::invalid_argument("give --features DIR, --images DIR or --bag FILE");
-      }
-      if (args->features.empty() && !HasCameraFlag(im.camera)) {
-        throw std::invalid_argument(std::string(im.bag.bag.empty() ? "--images" : "--bag") +
-                                    " needs --calib calib.txt|camchain.yaml or --sensor "
-                                    "sensor.yaml");
-      }
-      if (!args->features.empty() && HasCameraFlag(im.camera))
-        throw std::invalid_argument("--sensor, --calib apply to --images and --bag");
-      if (!im.bag.bag.empty() && !args->draw.empty())
-        throw std::invalid_argument("--draw needs --images (it reads the image files)");
+      CheckVoSources(args->features, args->images, args->draw);
       // Defaults (images: ImageVoConfig), then the file, then the flags given.
       VoConfig config = args->features.empty() ? ImageVoConfig() : FeaturesVoConfig();
       if (!args->config.empty()) LoadVoConfig(args->config, &config);

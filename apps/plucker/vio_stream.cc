@@ -120,14 +120,28 @@ std::unique_ptr<VioStream> OpenVioBag(const VioBagSource& s, const CameraCalibra
   return std::make_unique<BagVioStream>(std::move(bag), *origin, calib.timeshift_cam_imu);
 }
 
+void CheckVioSources(const std::string& features, const std::string& euroc, const VioBagSource& bag,
+                     const CameraFlags& c) {
+  if (!features.empty() + !euroc.empty() + !bag.bag.empty() != 1)
+    throw std::invalid_argument("give --features DIR, --euroc DIR or --bag FILE");
+  if (!features.empty() && (HasCameraFlag(c) || !c.imu_sensor.empty() || !c.imu_calib.empty())) {
+    throw std::invalid_argument(
+        "--sensor, --calib, --imu-sensor, --imu-calib apply to --euroc and --bag (a features "
+        "folder has its rig.txt)");
+  }
+}
+
 void ReplaceVioCalibration(const CameraCalibration& calib, VioInput* in) {
   SetCalibration(calib, in);
   if (calib.timeshift_cam_imu == 0.0 || in->images.empty()) return;
   for (io::EurocFrame& f : in->images) f.t += calib.timeshift_cam_imu;
   std::vector<std::string> skipped, warnings;
-  io::CheckImuCoverage(in->imu, {}, calib.source + " (timeshift_cam_imu)", &in->images, &skipped,
+  io::CheckImuCoverage(in->imu, {}, in->source + ": cam0/data.csv", &in->images, &skipped,
                        &warnings);
-  for (const std::string& w : skipped) in->warnings.push_back("skipped " + w);
+  for (const std::string& w : skipped) {
+    in->warnings.push_back("skipped " + w + " (the frame time moved by timeshift_cam_imu " +
+                           std::to_string(calib.timeshift_cam_imu) + " s of " + calib.source + ")");
+  }
 }
 
 }  // namespace app

@@ -48,6 +48,11 @@ using VioBagSource = BagFlags;  // --bag, --image-topic, --imu-topic, --stamp
 std::unique_ptr<VioStream> OpenVioBag(const VioBagSource& source, const CameraCalibration& calib,
                                       VioInput* in);
 
+// std::invalid_argument unless exactly one of --features, --euroc, --bag is given, and no
+// calibration flag with --features (its rig.txt is the calibration).
+void CheckVioSources(const std::string& features, const std::string& euroc, const VioBagSource& bag,
+                     const CameraFlags& camera);
+
 // --euroc with --sensor/--calib/--imu-sensor/--imu-calib: the given files replace the folder's
 // sensor.yaml files; a Kalibr timeshift_cam_imu moves the frame times (t_imu = t_cam + shift)
 // and the IMU coverage is checked again (frames no longer covered are skipped and named).

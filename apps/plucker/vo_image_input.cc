@@ -28,6 +28,19 @@ std::vector<window::FrameInput> VoFeatureFrames(const sensor::CameraImuSequence&
   return frames;
 }
 
+void CheckVoSources(const std::string& features, const VoImageSource& im, const std::string& draw) {
+  if (!features.empty() + !im.images.empty() + !im.bag.bag.empty() != 1)
+    throw std::invalid_argument("give --features DIR, --images DIR or --bag FILE");
+  if (features.empty() && !HasCameraFlag(im.camera)) {
+    throw std::invalid_argument(std::string(im.bag.bag.empty() ? "--images" : "--bag") +
+                                " needs --calib calib.txt|camchain.yaml or --sensor sensor.yaml");
+  }
+  if (!features.empty() && HasCameraFlag(im.camera))
+    throw std::invalid_argument("--sensor, --calib apply to --images and --bag");
+  if (!im.bag.bag.empty() && !draw.empty())
+    throw std::invalid_argument("--draw needs --images (it reads the image files)");
+}
+
 VoImageStream::VoImageStream(const VoImageSource& s) : rate_hz_(s.frame_rate_hz) {
   int width = 0, height = 0;
   if (!s.bag.bag.empty()) {

@@ -29,6 +29,11 @@ struct VoImageSource {
   double frame_rate_hz = 10.0;  // folders: frame times i / rate (the folder has none)
 };
 
+// std::invalid_argument unless exactly one of --features, --images, --bag is given, with a
+// camera flag for images (none for features), and --draw (non-empty) only with --images.
+void CheckVoSources(const std::string& features, const VoImageSource& images,
+                    const std::string& draw);
+
 struct VoImage {
   double t = 0.0;       // s (bags: since the first image's stamp)
   cv::Mat image;        // raw 8-bit gray; empty when it cannot be used (problem says why)
