@@ -314,7 +314,7 @@ expect lines-track-no-lines 0 "0.pgm: no line segments.*2.pgm: no line segments"
 expect lines-track-no-lines-files 0 "^0$" -- bash -c "grep -vc '^#' '$T/bt/segments.txt' || true"
 expect lines-match-no-lines 0 "no line matches" -- \
   "$PLUCKER" lines match --image1 "$T/blank/0.pgm" --image2 "$T/blank/1.pgm" --calib "$T/blank_calib.txt"
-expect lines-track-needs-camera nonzero "exactly one of --calib" -- \
+expect lines-track-needs-camera nonzero "exactly one of --intrinsics K.txt, --calib" -- \
   "$PLUCKER" lines track --images "$T/blank"
 expect lines-track-missing-calib nonzero "no_calib.txt" -- \
   "$PLUCKER" lines track --images "$T/blank" --calib "$T/no_calib.txt"
@@ -359,11 +359,11 @@ if [ -f "$KITTI/poses.txt" ]; then
 else
   echo "skip lines-track-kitti-*, vo-images-*: no KITTI clip at $KITTI"
 fi
-expect vo-images-no-calib nonzero "needs --calib calib.txt or --sensor" -- \
+expect vo-images-no-calib nonzero "needs --calib calib.txt.* or --sensor" -- \
   "$PLUCKER" vo --images "$T/img" --out "$T/vo_x.txt"
 expect vo-two-sources nonzero "excludes" -- \
   "$PLUCKER" vo --images "$T/img" --features "$T/cam" --calib "$T/one_pose.txt" --out "$T/vo_x.txt"
-expect vo-no-source nonzero "give --features DIR or --images DIR" -- \
+expect vo-no-source nonzero "give --features DIR, --images DIR or --bag FILE" -- \
   "$PLUCKER" vo --out "$T/vo_x.txt"
 
 # plucker sfm: bad input (small images made here; each case fails or skips a view, naming the file).
@@ -500,7 +500,7 @@ expect vio-estimate-extrinsic-json 0 '"rotation_change_deg"' -- cat "$T/vio_ext.
 printf 'T_b_c: [0, 0, 0, 0, 0, 0]\n' > "$T/vio_tbc_bad.yaml"
 expect vio-bad-extrinsic nonzero "vio_tbc_bad.yaml: T_b_c must be 7 finite numbers" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_tbc_bad.yaml"
-expect vio-no-source nonzero "give --features DIR or --euroc DIR" -- "$PLUCKER" vio --out "$T/x.tum"
+expect vio-no-source nonzero "give --features DIR, --euroc DIR or --bag FILE" -- "$PLUCKER" vio --out "$T/x.tum"
 expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \
   "$PLUCKER" vio --features "$T/nothing" --out "$T/vio_x.tum"
 # EuRoC: the first 20 real frames (static initialisation at rest), then bad input: a missing
@@ -581,6 +581,16 @@ if [ -d "$KITTI_LIDAR/velodyne" ]; then
 else
   echo "skip bag-from-kitti, lidar-bag-kitti-*: no KITTI extract at $KITTI_LIDAR"
 fi
+# euroc_head SRC DST N: a EuRoC folder of the first N frames of SRC (and its whole IMU log).
+euroc_head() {
+  mkdir -p "$2/mav0/cam0/data"
+  cp -r "$1/mav0/imu0" "$2/mav0/"
+  cp "$1/mav0/cam0/sensor.yaml" "$2/mav0/cam0/"
+  head -$(($3 + 1)) "$1/mav0/cam0/data.csv" > "$2/mav0/cam0/data.csv"
+  for f in $(tail -n +2 "$2/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
+    cp "$1/mav0/cam0/data/$f" "$2/mav0/cam0/data/"
+  done
+}
 EUROC_HEAD="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-v101-head"
 if [ -d "$EUROC_HEAD/mav0" ]; then
   expect bag-from-euroc 0 "95 images on /cam0/image_raw, 29120 IMU samples on /imu0" -- \
@@ -589,8 +599,110 @@ if [ -d "$EUROC_HEAD/mav0" ]; then
     "$PLUCKER" bag info "$T/euroc.bag"
   expect lidar-bag-wrong-type nonzero "topic /imu0 has type sensor_msgs/Imu, expected sensor_msgs/PointCloud2" -- \
     "$PLUCKER" lidar --bag "$T/euroc.bag" --topic /imu0 --out "$T/x.txt"
+  # vio --bag and vo --bag (docs/bags.md): the first 40 frames of the head written as a bag give
+  # byte-identical poses to the folder; the stamps are the folder's nanoseconds.
+  BE="$T/beuroc/mav0"
+  euroc_head "$EUROC_HEAD" "$T/beuroc" 40
+  "$PLUCKER" bag from-euroc "$T/beuroc" "$T/beuroc.bag" --quiet
+  CAM0="$BE/cam0/sensor.yaml"
+  IMU0="$BE/imu0/sensor.yaml"
+  VB=(--bag "$T/beuroc.bag" --image-topic /cam0/image_raw --imu-topic /imu0)
+  expect vio-euroc-head 0 "" -- "$PLUCKER" vio --euroc "$T/beuroc" --out "$T/bv_dir.tum" --quiet
+  expect vio-bag 0 "" -- "$PLUCKER" vio "${VB[@]}" --sensor "$CAM0" --imu-sensor "$IMU0" \
+    --out "$T/bv_bag.tum" --out-online "$T/bv_bag_online.tum" --json "$T/bv_bag.json" --quiet
+  expect vio-bag-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_bag.tum"
+  expect vio-bag-json-names-messages 0 "beuroc.bag: topic /cam0/image_raw, message 39" -- \
+    cat "$T/bv_bag.json"
+  expect vio-bag-receive-stamp 0 "" -- "$PLUCKER" vio "${VB[@]}" --stamp receive --sensor "$CAM0" \
+    --imu-sensor "$IMU0" --out "$T/bv_bag_r.tum" --quiet
+  expect vio-bag-receive-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_bag_r.tum"
+  expect vio-bag-no-topic nonzero "beuroc.bag: no topic /cam1; the bag has: /cam0/image_raw \(sensor_msgs/Image\), /imu0 \(sensor_msgs/Imu\)" -- \
+    "$PLUCKER" vio --bag "$T/beuroc.bag" --image-topic /cam1 --imu-topic /imu0 --sensor "$CAM0" \
+    --imu-sensor "$IMU0" --out "$T/x.tum"
+  expect vio-bag-wrong-type nonzero "topic /imu0 has type sensor_msgs/Imu, expected sensor_msgs/Image or sensor_msgs/CompressedImage" -- \
+    "$PLUCKER" vio --bag "$T/beuroc.bag" --image-topic /imu0 --imu-topic /imu0 --sensor "$CAM0" \
+    --imu-sensor "$IMU0" --out "$T/x.tum"
+  expect vio-bag-no-imu-model nonzero "needs the IMU noise model" -- \
+    "$PLUCKER" vio "${VB[@]}" --sensor "$CAM0" --out "$T/x.tum"
+  expect vio-bag-no-camera nonzero "give exactly one of --calib calib.txt\|camchain.yaml or --sensor" -- \
+    "$PLUCKER" vio "${VB[@]}" --imu-sensor "$IMU0" --out "$T/x.tum"
+  expect vio-bag-not-overwritten nonzero "beuroc.bag: refusing to overwrite an input file" -- "$PLUCKER" vio "${VB[@]}" --sensor "$CAM0" \
+    --imu-sensor "$IMU0" --out "$T/beuroc.bag" --quiet
+  # Kalibr calibrations of the same numbers (tests/data/kalibr, docs/cli.md): OpenVINS' T_imu_cam
+  # carries EuRoC's T_BS digit for digit (byte-identical poses); Kalibr's T_cam_imu is its inverse
+  # at 17 digits, read back and inverted: the poses differ in the last digit (measured: at most
+  # 1.1e-16 in any TUM column), ATE 0.0000 m.
+  KD="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/data/kalibr"
+  expect vio-kalibr-imu-cam 0 "" -- "$PLUCKER" vio --euroc "$T/beuroc" --quiet \
+    --calib "$KD/euroc-kalibr-imucam-chain.yaml" --imu-calib "$KD/euroc-imu.yaml" --out "$T/bv_k1.tum"
+  expect vio-kalibr-imu-cam-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_k1.tum"
+  expect vio-kalibr-cam-imu 0 "" -- "$PLUCKER" vio --euroc "$T/beuroc" --quiet \
+    --calib "$KD/euroc-camchain-imucam.yaml" --imu-calib "$KD/euroc-imu.yaml" --out "$T/bv_k2.tum"
+  expect vio-kalibr-cam-imu-ate 0 "rmse +0.0000" -- "$PLUCKER" eval ate --gt "$T/bv_dir.tum" \
+    --est "$T/bv_k2.tum" --align none
+  expect vio-kalibr-bag 0 "" -- "$PLUCKER" vio "${VB[@]}" --quiet \
+    --calib "$KD/euroc-kalibr-imucam-chain.yaml" --imu-calib "$KD/euroc-imu.yaml" --out "$T/bv_k3.tum"
+  expect vio-kalibr-bag-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_k3.tum"
+  expect vio-kalibr-no-extrinsic nonzero "euroc-camchain.yaml: missing key 'cam0.T_cam_imu'" -- \
+    "$PLUCKER" vio --euroc "$T/beuroc" --calib "$KD/euroc-camchain.yaml" --out "$T/x.tum"
+  expect vio-kitti-calib-no-extrinsic nonzero "KITTI calib.txt has no camera-IMU extrinsic" -- \
+    "$PLUCKER" vio --euroc "$T/beuroc" --calib "$T/blank_calib.txt" --out "$T/x.tum"
+  # timeshift_cam_imu moves the frames on the IMU clock (t_imu = t_cam + shift): shifted 1 ms
+  # early, the first frame (on the first IMU sample) is no longer covered, skipped and named.
+  # (Exit status not checked: any shift makes the static start of the head fail today, an
+  # initializer problem reported separately.)
+  sed 's/timeshift_cam_imu: 0.0/timeshift_cam_imu: -0.001/' "$KD/euroc-kalibr-imucam-chain.yaml" \
+    > "$T/shift.yaml"
+  expect vio-kalibr-timeshift 0 "skipped .*cam0/data.csv:2: no IMU coverage.*timeshift_cam_imu -0.001" -- \
+    bash -c "'$PLUCKER' vio --euroc '$T/beuroc' --calib '$T/shift.yaml' --out '$T/bv_shift.tum' --quiet 2>&1; true"
+  # The traps: unsupported models named, a non-rigid 4x4 naming its key.
+  sed 's/distortion_model: radtan/distortion_model: fov/' "$KD/euroc-camchain.yaml" > "$T/fov.yaml"
+  expect vio-kalibr-fov nonzero "fov.yaml.*fov" -- \
+    "$PLUCKER" vio --euroc "$T/beuroc" --calib "$T/fov.yaml" --out "$T/x.tum"
+  sed 's/0.014865542981797136, 0.99955724900817311/0.015865542981797136, 0.99955724900817311/' \
+    "$KD/euroc-camchain-imucam.yaml" > "$T/nonrigid.yaml"
+  expect vio-kalibr-non-rigid nonzero "nonrigid.yaml.*cam0.T_cam_imu.*not a rotation" -- \
+    "$PLUCKER" vio --euroc "$T/beuroc" --calib "$T/nonrigid.yaml" --out "$T/x.tum"
+  expect vio-features-refuses-calib nonzero "apply to --euroc and --bag" -- \
+    "$PLUCKER" vio --features "$T/vcam" --calib "$KD/euroc-camchain.yaml" --out "$T/x.tum"
 else
-  echo "skip bag-from-euroc, bag-info-euroc, lidar-bag-wrong-type: no EuRoC head at $EUROC_HEAD"
+  echo "skip bag-from-euroc, bag-info-euroc, lidar-bag-wrong-type, vio-bag-*, vio-kalibr-*: no EuRoC head at $EUROC_HEAD"
+fi
+# vo --bag: the first 50 frames of the MH_05 clip (take-off: the head above stands still, which a
+# monocular start cannot use) written as a bag give the folder's poses; a Kalibr camchain of the
+# same numbers gives them too.
+MH05="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/euroc-mh05-clip"
+if [ -d "$MH05/mav0" ]; then
+  ME="$T/mh05/mav0"
+  euroc_head "$MH05" "$T/mh05" 50
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05.bag" --quiet
+  MCAM0="$ME/cam0/sensor.yaml"
+  KD="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/data/kalibr"
+  expect vo-images-mh05 0 "" -- "$PLUCKER" vo --images "$ME/cam0/data" --sensor "$MCAM0" \
+    --out "$T/bvo_dir.txt" --quiet
+  expect vo-bag 0 "" -- "$PLUCKER" vo --bag "$T/mh05.bag" --image-topic /cam0/image_raw \
+    --sensor "$MCAM0" --out "$T/bvo_bag.txt" --quiet
+  expect vo-bag-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_bag.txt"
+  expect vo-bag-needs-topic nonzero "needs --image-topic" -- \
+    "$PLUCKER" vo --bag "$T/mh05.bag" --sensor "$MCAM0" --out "$T/x.txt"
+  expect vo-bag-draw nonzero "--draw needs --images" -- "$PLUCKER" vo --bag "$T/mh05.bag" \
+    --image-topic /cam0/image_raw --sensor "$MCAM0" --out "$T/x.txt" --draw "$T/xd"
+  expect vo-kalibr 0 "" -- "$PLUCKER" vo --images "$ME/cam0/data" --quiet \
+    --calib "$KD/euroc-camchain.yaml" --out "$T/bvo_k.txt"
+  expect vo-kalibr-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_k.txt"
+  # lines track with a distorted camera: the images undistorted first (docs/cli.md), the same
+  # tracks from the EuRoC sensor.yaml and from the Kalibr camchain of its numbers.
+  expect lines-track-sensor 0 "" -- "$PLUCKER" lines track --images "$ME/cam0/data" \
+    --sensor "$MCAM0" --max-frames 8 --out "$T/lt_sensor" --quiet
+  expect lines-track-kalibr 0 "" -- "$PLUCKER" lines track --images "$ME/cam0/data" \
+    --calib "$KD/euroc-camchain.yaml" --max-frames 8 --out "$T/lt_kalibr" --quiet
+  expect lines-track-kalibr-same 0 "" -- diff -r "$T/lt_sensor" "$T/lt_kalibr"
+  expect lines-track-sensor-has-segments 0 "^[1-9][0-9]+$" -- bash -c "wc -l < '$T/lt_sensor/segments.txt'"
+  sed 's/camera_model: pinhole/camera_model: omni/' "$KD/euroc-camchain.yaml" > "$T/omni.yaml"
+  expect vo-kalibr-omni nonzero "omni.yaml.*omni" -- \
+    "$PLUCKER" vo --images "$ME/cam0/data" --calib "$T/omni.yaml" --out "$T/x.txt"
+else
+  echo "skip vo-bag-*, vo-kalibr-*: no MH_05 clip at $MH05"
 fi
 
 echo "$pass passed, $fail failed"

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <cmath>
 #include <iostream>
 
 #include "plucker/bag/bag_writer.h"
@@ -23,9 +24,12 @@ struct FromEurocArgs {
 int RunFromEuroc(const FromEurocArgs& a) {
   const io::EurocDataset euroc = io::ReadEurocDataset(a.data);
   bag::BagWriter writer(a.out);
-  // Stamps are the folder reader's times (s since the first IMU sample), header = receive.
+  // Stamps are the folder's timestamps [ns] (header = receive): the reader's times are exact
+  // nanosecond differences from the first IMU sample, so they are recovered by rounding.
+  const std::int64_t origin = euroc.imu.origin_ns;
+  auto ns = [origin](double t) { return origin + std::llround(t * 1e9); };
   for (const sensor::ImuSample& s : euroc.imu.imu)
-    writer.WriteImu(a.imu_topic, std::max(s.t, 1e-9), s);
+    writer.WriteImuNs(a.imu_topic, std::max<std::int64_t>(ns(s.t), 1), ns(s.t), s);
   std::size_t images = 0;
   for (const io::EurocFrame& f : euroc.frames) {
     const cv::Mat gray = cv::imread(f.image, cv::IMREAD_GRAYSCALE);
@@ -37,8 +41,8 @@ int RunFromEuroc(const FromEurocArgs& a) {
     pixels.reserve(gray.total());
     for (int r = 0; r < gray.rows; ++r)
       pixels.insert(pixels.end(), gray.ptr<std::uint8_t>(r), gray.ptr<std::uint8_t>(r) + gray.cols);
-    writer.WriteImage(a.image_topic, std::max(f.t, 1e-9), f.t, gray.cols, gray.rows, "mono8",
-                      pixels);
+    writer.WriteImageNs(a.image_topic, std::max<std::int64_t>(ns(f.t), 1), ns(f.t), gray.cols,
+                        gray.rows, "mono8", pixels);
     ++images;
   }
   writer.Close();

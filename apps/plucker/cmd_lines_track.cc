@@ -1,13 +1,14 @@
 // Line matching and tracks on real images, and their quality against ground-truth poses:
-//   plucker lines match --image1 A --image2 B (--calib calib.txt | --intrinsics K.txt)
-//                       [--out matches.txt] [--draw out.png]
-//   plucker lines track --images DIR (--calib calib.txt | --intrinsics K.txt) [--out OUTDIR]
+//   plucker lines match --image1 A --image2 B CAMERA [--out matches.txt] [--draw out.png]
+//   plucker lines track --images DIR CAMERA [--out OUTDIR]
 //                       [--gt poses.txt | --gt-cameras DIR] [--gating points|gt|none]
 //                       [--reduce 1|2|4|8] [--max-frames N] [--json] [--quiet]
-//   plucker eval tracks --segments segments.txt (--calib calib.txt | --intrinsics K.txt)
+//   plucker eval tracks --segments segments.txt CAMERA
 //                       (--gt poses.txt | --gt-cameras DIR) [--reduce R] [--threshold 2]
 //                       [--min-views 3] [--json]
-// The images are undistorted pinhole images (KITTI, Strecha). Pipeline per frame: detect
+// CAMERA: --calib calib.txt|camchain.yaml | --intrinsics K.txt | --sensor sensor.yaml
+// (camera_input.h); a distorted camera's images are undistorted into the pinhole of its K before
+// anything is detected (segments and points are in that view). Pipeline per frame: detect
 // segments (vision/line_detector.h, default method), KLT point tracks with RANSAC
 // (vision/point_tracker.h), the fundamental matrix from the point tracks (or from the ground
 // truth with --gating gt) for the epipolar gate, then the line tracker (vision/line_tracker.h).
@@ -29,6 +30,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "camera_input.h"
 #include "commands.h"
 #include "plucker/eval/line_tracks.h"
 #include "plucker/io/camera_calibration.h"
@@ -40,6 +42,7 @@
 #include "plucker/vision/line_matcher.h"
 #include "plucker/vision/line_tracker.h"
 #include "plucker/vision/point_tracker.h"
+#include "plucker/vision/undistort.h"
 #include "run_guarded.h"
 
 namespace plucker {
@@ -49,37 +52,54 @@ namespace {
 namespace fs = std::filesystem;
 
 struct CameraArgs {
-  std::string calib, intrinsics;
+  CameraFlags flags;
   int reduce = 1;
 };
 
 void AddCameraOptions(CLI::App* cmd, CameraArgs* a) {
-  cmd->add_option("--calib", a->calib, "KITTI calib.txt (P0)");
-  cmd->add_option("--intrinsics", a->intrinsics, "Strecha K.txt (3x3 intrinsics)");
+  AddCameraFlags(cmd, &a->flags, CameraFlagSet{true, false});
   cmd->add_option("--reduce", a->reduce,
                   "Decode the images at 1/R of their size (1, 2, 4 or 8; K is scaled to match)")
       ->capture_default_str();
 }
 
-// K of the (possibly reduced) images. Pixel centres at integers: a reduced pixel i covers the
-// original pixels R i .. R i + R - 1, so x_reduced = (x - (R - 1) / 2) / R.
-PinholeIntrinsics ReadK(const CameraArgs& a, int width, int height) {
-  if (a.calib.empty() == a.intrinsics.empty()) {
-    throw std::invalid_argument("give exactly one of --calib calib.txt or --intrinsics K.txt");
+// The images as the detectors see them (camera_input.h's rule): a distorted camera's images
+// undistorted into the pinhole of its K first, then reduced; K of the (possibly reduced)
+// images. Pixel centres at integers: a reduced pixel i covers the original pixels R i .. R i +
+// R - 1, so x_reduced = (x - (R - 1) / 2) / R.
+struct LineCamera {
+  PinholeIntrinsics K;
+  std::optional<vision::Undistorter> undistorter;
+  int reduce = 1;
+
+  cv::Mat Read(const std::string& path) const {
+    if (!undistorter) return io::ReadGrayImage(path, reduce);
+    const cv::Mat ideal = undistorter->Undistort(io::ReadGrayImage(path));
+    if (reduce == 1) return ideal;
+    cv::Mat out;
+    cv::resize(ideal, out, cv::Size(ideal.cols / reduce, ideal.rows / reduce), 0, 0,
+               cv::INTER_AREA);
+    return out;
   }
+};
+
+LineCamera ReadLineCamera(const CameraArgs& a, int width, int height) {
   if (a.reduce != 1 && a.reduce != 2 && a.reduce != 4 && a.reduce != 8) {
     throw std::invalid_argument("--reduce must be 1, 2, 4 or 8");
   }
-  // The calibration files carry no size; the size only matters for sensor::Camera checks.
-  const int w = std::max(1, width), h = std::max(1, height);
-  PinholeIntrinsics K = a.calib.empty() ? io::ReadStrechaIntrinsics(a.intrinsics, w, h).K
-                                        : io::ReadKittiCalibration(a.calib, w, h).camera.K;
+  // KITTI and Strecha files carry no size (0: no images, nothing checked).
+  const CameraCalibration calib = ReadCameraCalibration(a.flags, width, height);
+  LineCamera c;
+  c.reduce = a.reduce;
+  if (width > 0 && NeedsUndistortion(calib.camera, calib.source))
+    c.undistorter.emplace(calib.camera);
+  c.K = calib.camera.K;
   const double r = a.reduce;
-  K.fx /= r;
-  K.fy /= r;
-  K.cx = (K.cx - (r - 1) / 2) / r;
-  K.cy = (K.cy - (r - 1) / 2) / r;
-  return K;
+  c.K.fx /= r;
+  c.K.fy /= r;
+  c.K.cx = (c.K.cx - (r - 1) / 2) / r;
+  c.K.cy = (c.K.cy - (r - 1) / 2) / r;
+  return c;
 }
 
 // Ground-truth poses T_w_c: a KITTI poses file or a folder of Strecha .camera files.
@@ -187,7 +207,8 @@ int RunTrack(const TrackArgs& a) {
   const io::ImageFolder folder = io::OpenImageFolder(a.images);
   std::vector<std::string> files = folder.files;
   if (a.max_frames > 0 && static_cast<int>(files.size()) > a.max_frames) files.resize(a.max_frames);
-  const PinholeIntrinsics K = ReadK(a.camera, folder.size.width, folder.size.height);
+  const LineCamera camera = ReadLineCamera(a.camera, folder.size.width, folder.size.height);
+  const PinholeIntrinsics& K = camera.K;
   std::vector<SE3d> gt;
   if (!a.gt.empty() || !a.gt_cameras.empty()) {
     gt = ReadGroundTruth(a.gt, a.gt_cameras);
@@ -218,7 +239,7 @@ int RunTrack(const TrackArgs& a) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
   };
   for (std::size_t f = 0; f < files.size(); ++f) {
-    const cv::Mat gray = io::ReadGrayImage(files[f], a.camera.reduce);
+    const cv::Mat gray = camera.Read(files[f]);
     auto t = Clock::now();
     const vision::LineDetection det = vision::DetectLineSegments(gray);
     ms_detect += ms_since(t);
@@ -307,9 +328,10 @@ int RunMatch(const MatchArgs& a) {
     throw std::invalid_argument("give --image1 and --image2");
   }
   const io::ImageSize size = io::CheckSameImageSize({a.image1, a.image2});
-  const PinholeIntrinsics K = ReadK(a.camera, size.width, size.height);
-  const cv::Mat g1 = io::ReadGrayImage(a.image1, a.camera.reduce);
-  const cv::Mat g2 = io::ReadGrayImage(a.image2, a.camera.reduce);
+  const LineCamera camera = ReadLineCamera(a.camera, size.width, size.height);
+  const PinholeIntrinsics& K = camera.K;
+  const cv::Mat g1 = camera.Read(a.image1);
+  const cv::Mat g2 = camera.Read(a.image2);
   const auto d1 = vision::DetectLineSegments(g1), d2 = vision::DetectLineSegments(g2);
   for (const auto& [det, name] : {std::make_pair(&d1, &a.image1), std::make_pair(&d2, &a.image2)}) {
     if (det->segments.empty()) {
@@ -400,7 +422,7 @@ int RunEvalTracks(const EvalTracksArgs& a) {
   if (!(a.threshold > 0) || a.min_views < 2) {
     throw std::invalid_argument("--threshold must be > 0 and --min-views >= 2");
   }
-  const PinholeIntrinsics K = ReadK(a.camera, 0, 0);
+  const PinholeIntrinsics K = ReadLineCamera(a.camera, 0, 0).K;
   const std::vector<SE3d> gt = ReadGroundTruth(a.gt, a.gt_cameras);
   const std::vector<sensor::SegmentObservation> obs = io::ReadSegmentTracks(a.segments);
   if (obs.empty()) throw io::IoError(a.segments, "no segment observations");

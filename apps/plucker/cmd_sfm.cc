@@ -23,6 +23,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "camera_input.h"
 #include "commands.h"
 #include "plucker/eval/line_tracks.h"
 #include "plucker/eval/point_tracks.h"
@@ -44,7 +45,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct SfmArgs {
-  std::string images, intrinsics, calib, sensor, out, gt;
+  std::string images, out, gt;
+  CameraFlags camera;
   bool no_lines = false;
   bool refine_segments = false;
   int max_points = 0;
@@ -82,25 +84,12 @@ struct Calibration {
   std::optional<vision::Undistorter> undistorter;
 };
 
+// The calibration of the images (camera_input.h: the flags and the undistortion rule).
 Calibration ReadCalibration(const SfmArgs& a, int width, int height) {
-  const int given = !a.intrinsics.empty() + !a.calib.empty() + !a.sensor.empty();
-  if (given != 1) {
-    throw std::invalid_argument(
-        "give exactly one of --intrinsics K.txt, --calib calib.txt or --sensor sensor.yaml");
-  }
   Calibration c;
-  if (!a.intrinsics.empty()) c.camera = io::ReadStrechaIntrinsics(a.intrinsics, width, height);
-  if (!a.calib.empty()) c.camera = io::ReadKittiCalibration(a.calib, width, height).camera;
-  if (!a.sensor.empty()) {
-    c.camera = io::ReadEurocCamera(a.sensor).camera;
-    if (c.camera.width != width || c.camera.height != height) {
-      throw io::IoError(a.sensor, "resolution " + std::to_string(c.camera.width) + "x" +
-                                      std::to_string(c.camera.height) + " differs from the " +
-                                      "images' " + std::to_string(width) + "x" +
-                                      std::to_string(height));
-    }
-    if (!c.camera.IsPinhole()) c.undistorter.emplace(c.camera);
-  }
+  const CameraCalibration calib = ReadCameraCalibration(a.camera, width, height);
+  c.camera = calib.camera;
+  if (NeedsUndistortion(c.camera, calib.source)) c.undistorter.emplace(c.camera);
   return c;
 }
 
@@ -402,9 +391,7 @@ void RegisterSfm(CLI::App& app, int* exit_code) {
       "Reconstruct cameras, 3D points and 3D line segments from a folder of calibrated images");
   cmd->add_option("--images", a->images, "Folder of images (image files in name order)")
       ->required();
-  cmd->add_option("--intrinsics", a->intrinsics, "Strecha K.txt (undistorted images)");
-  cmd->add_option("--calib", a->calib, "KITTI calib.txt (P0; rectified images)");
-  cmd->add_option("--sensor", a->sensor, "EuRoC sensor.yaml (images are undistorted first)");
+  AddCameraFlags(cmd, &a->camera, CameraFlagSet{true, false});
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->add_flag("--no-lines", a->no_lines, "Points only");
   cmd->add_flag("--refine-segments", a->refine_segments,

@@ -1,9 +1,10 @@
 // plucker vio: monocular point + line visual-inertial odometry (docs/vio.md) on a features
-// folder (docs/sim-format.md: rig.txt, imu.txt, points.txt, segments.txt) or a EuRoC folder (cam0
-// images, imu0): a reader, the loop of a driver over the inputs in time order into
-// odometry::VisualInertialOdometry (IMU samples up to each frame's time, then the frame: one
-// image in memory at a time), and the writers. --out: the refined trajectory (the frames before
-// the start backfilled); --out-online: the poses as returned frame by frame.
+// folder (docs/sim-format.md: rig.txt, imu.txt, points.txt, segments.txt), a EuRoC folder (cam0
+// images, imu0) or a ROS 1 bag (image and IMU topics): a reader, the loop of a driver over the
+// inputs in time order into odometry::VisualInertialOdometry (vio_stream.h: IMU samples up to
+// each frame's time, then the frame: one image in memory at a time), and the writers. --out: the
+// refined trajectory (the frames before the start backfilled); --out-online: the poses as returned
+// frame by frame.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <iomanip>
@@ -19,6 +20,7 @@
 #include "vio_config.h"
 #include "vio_input.h"
 #include "vio_output.h"
+#include "vio_stream.h"
 
 namespace plucker {
 namespace app {
@@ -26,6 +28,8 @@ namespace {
 
 struct VioArgs {
   std::string features, euroc, out, out_online, json, plot, config;
+  VioBagSource bag;
+  CameraFlags camera;
   bool no_lines = false, quiet = false, estimate_extrinsic = false, estimate_time_offset = false;
   int point_stride = 1, window = 10;
   VioConfig cfg;
@@ -34,7 +38,7 @@ struct VioArgs {
 const char* kFrontendStages[vision::kNumFrontendStages] = {"points", "detection", "lines"};
 
 // One frame through the odometry, timed; EuRoC: the image read here (unreadable: skipped).
-bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* vio,
+bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdometry* vio,
           VioReport* report, std::vector<odometry::VioFrameRecord>* online,
           std::vector<std::string>* warnings) {
   BasicStageClock<window::WindowStage, window::kNumWindowStages> window_ms;
@@ -42,20 +46,20 @@ bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* v
   odometry::VioFrameResult r;
   const double t0 = ThreadCpuMs();
   double frontend_total = 0.0;
-  if (in.images.empty()) {
-    r = vio->AddFrame(in.frames[i], window_ms.Observer());
+  if (item.name.empty()) {
+    r = vio->AddFrame(in.frames[item.frame], window_ms.Observer());
   } else {
-    const io::EurocFrame& frame = in.images[i];
     try {  // unreadable, or of another size than the calibration
-      const cv::Mat image = io::ReadGrayImage(frame.image);
+      if (!item.problem.empty()) throw std::runtime_error(item.problem);
+      const cv::Mat image = item.image.empty() ? io::ReadGrayImage(item.name) : item.image;
       frontend_total = ThreadCpuMs() - t0;  // reading the image counts to the front end
-      r = vio->AddImage(frame.t, image, frontend_ms.Observer(), window_ms.Observer());
+      r = vio->AddImage(item.t, image, frontend_ms.Observer(), window_ms.Observer());
     } catch (const std::exception& e) {
-      warnings->push_back(std::string("skipped ") + frame.image + ": " + e.what());
+      warnings->push_back(std::string("skipped ") + item.name + ": " + e.what());
       std::cerr << "plucker vio: warning: " << warnings->back() << "\n";
       return false;
     }
-    nlohmann::json info = {{"image", frame.image},
+    nlohmann::json info = {{"image", item.name},
                            {"observed_points", r.observed_points},
                            {"observed_segments", r.observed_segments}};
     for (int k = 0; k < vision::kNumFrontendStages; ++k) {
@@ -102,9 +106,19 @@ int Run(const VioArgs& a) {
   const double t_start = WallMs();
   VioConfig cfg = a.cfg;
   if (a.no_lines) cfg.odometry.use_lines = false;
-  VioInput in =
-      a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride) : ReadVioEuroc(a.euroc);
-  const std::size_t n = in.images.empty() ? in.frames.size() : in.images.size();
+  std::vector<std::string> inputs = CameraFlagFiles(a.camera);
+  inputs.insert(inputs.end(), {a.bag.bag, a.config});
+  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot});
+  VioInput in;
+  std::unique_ptr<VioStream> stream;
+  if (!a.bag.bag.empty()) {
+    stream = OpenVioBag(a.bag, ReadCameraCalibration(a.camera), &in);
+  } else {
+    in = a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride) : ReadVioEuroc(a.euroc);
+    if (!a.euroc.empty()) ReplaceVioCalibration(ReadCameraCalibration(a.camera, 0, 0, false), &in);
+    stream = MakeFolderVioStream(in);
+  }
+  const std::size_t n = stream->frames();
   if (n < 3) throw io::IoError(in.source, "needs at least 3 frames, has " + std::to_string(n));
   for (const std::string& w : in.warnings) std::cerr << "plucker vio: warning: " << w << "\n";
   if (!cfg.T_b_c.empty()) {  // --config T_b_c: the extrinsic given instead of the input's
@@ -117,24 +131,28 @@ int Run(const VioArgs& a) {
   VioReport report;
   report.extrinsic_estimated = cfg.odometry.estimate_extrinsic;
   std::vector<odometry::VioFrameRecord> online;
-  std::size_t next_imu = 0;
   double last_progress = WallMs();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = in.images.empty() ? in.frames[i].time : in.images[i].t;
-    // A driver delivers the IMU up to the image's timestamp before the image.
-    while (next_imu < in.imu.size() && (next_imu == 0 || in.imu[next_imu - 1].t < t))
-      vio.AddImu(in.imu[next_imu++]);
-    if (!Feed(in, i, &vio, &report, &online, &in.warnings)) continue;
+  std::size_t i = 0;
+  for (VioItem item; stream->Next(&item);) {
+    if (item.is_imu) {
+      vio.AddImu(item.imu);
+      continue;
+    }
+    ++i;
+    if (!Feed(in, item, &vio, &report, &online, &in.warnings)) continue;
     const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i + 1 == n)) {
+    if (!a.quiet && (now - last_progress > 500.0 || i == n)) {
       last_progress = now;
-      std::cerr << "\rplucker vio: frame " << (i + 1) << "/" << n << "  keyframes "
-                << report.keyframes << "  points " << report.window_points << "  lines "
-                << report.window_lines << "   " << std::flush;
+      std::cerr << "\rplucker vio: frame " << i << "/" << n << "  keyframes " << report.keyframes
+                << "  points " << report.window_points << "  lines " << report.window_lines << "   "
+                << std::flush;
     }
   }
   if (!a.quiet) std::cerr << "\n";
-  while (next_imu < in.imu.size()) vio.AddImu(in.imu[next_imu++]);
+  for (const std::string& w : stream->warnings()) {
+    std::cerr << "plucker vio: warning: " << w << "\n";
+    in.warnings.push_back(w);
+  }
   const double t_finish = ThreadCpuMs();
   const odometry::VioFrameResult end = vio.Finish();
   report.Add(end, {}, ThreadCpuMs() - t_finish);
@@ -175,7 +193,12 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       "Features folder: rig.txt, imu.txt, points.txt, segments.txt (docs/sim-format.md)");
   CLI::Option* euroc =
       cmd->add_option("--euroc", args->euroc, "EuRoC folder (mav0/cam0 images, mav0/imu0)");
+  CLI::Option* bag = AddBagFlags(cmd, &args->bag, true,
+                                 "ROS 1 bag (--image-topic, --imu-topic; the calibration from "
+                                 "--sensor/--calib and --imu-sensor/--imu-calib)");
   features->excludes(euroc);
+  bag->excludes(features)->excludes(euroc);
+  AddCameraFlags(cmd, &args->camera, CameraFlagSet{false, true});
   cmd->add_option("--out", args->out,
                   "Output TUM trajectory of the body frame T_w_b, refined: the frames before "
                   "the start backfilled")
@@ -209,9 +232,7 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, stride, window, estimate_extrinsic, estimate_td]() {
     RunGuarded("vio", exit_code, [&] {
-      if (args->features.empty() == args->euroc.empty()) {
-        throw std::invalid_argument("give --features DIR or --euroc DIR");
-      }
+      CheckVioSources(args->features, args->euroc, args->bag, args->camera);
       // The configuration file, then what the command line gives explicitly.
       if (!args->config.empty()) ApplyVioConfig(args->config, &args->cfg);
       if (stride->count() > 0) args->cfg.point_stride = args->point_stride;

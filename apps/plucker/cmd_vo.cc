@@ -1,7 +1,8 @@
 // plucker vo: monocular point + line visual odometry, odometry::MonocularOdometry
 // (src/plucker/odometry/monocular_odometry.h, docs/vo.md), on a features folder (the sim format,
 // docs/sim-format.md: rig.txt, points.txt and segments.txt with track ids; the ground truth in the
-// folder is not read) or on an image folder (the pipeline runs the image front end). A reader, a
+// folder is not read), an image folder or a bag's image topic (the pipeline runs the image front
+// end; vo_image_input.h). A reader, a
 // loop that feeds the frames in order, and writers:
 //   --out         KITTI poses T_w_c of every frame, the refined view (Trajectory() after the end of
 //                 the input): the frames before a start localised against its map (backfilled),
@@ -60,14 +61,16 @@ int Run(const VoArgs& a, VoConfig config) {
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 128 << 20);
   const double t_start = WallMs();
-  const bool images = !a.images.images.empty();
-  const std::string source = images ? a.images.images : a.features;
+  std::vector<std::string> inputs = CameraFlagFiles(a.images.camera);
+  inputs.insert(inputs.end(), {a.images.bag.bag, a.config});
+  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json});
+  const bool images = a.features.empty();
   std::vector<window::FrameInput> frames;
-  VoImageFolder folder;
+  std::unique_ptr<VoImageStream> stream;
   std::unique_ptr<odometry::MonocularOdometry> vo;
   if (images) {
-    folder = OpenVoImages(a.images);
-    vo = std::make_unique<odometry::MonocularOdometry>(folder.camera, config);
+    stream = std::make_unique<VoImageStream>(a.images);
+    vo = std::make_unique<odometry::MonocularOdometry>(stream->camera(), config);
   } else {
     const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
     frames = VoFeatureFrames(seq, a.point_stride);
@@ -75,49 +78,52 @@ int Run(const VoArgs& a, VoConfig config) {
         std::max(seq.observation_model.pixel_sigma, 0.5);
     vo = std::make_unique<odometry::MonocularOdometry>(seq.rig.K, config);
   }
-  const int n = static_cast<int>(images ? folder.files.size() : frames.size());
+  const std::string source = images ? stream->source() : a.features;
+  const int n = static_cast<int>(images ? stream->size() : frames.size());
   if (n < 3) throw io::IoError(source, "needs at least 3 frames, has " + std::to_string(n));
+  std::vector<std::string> names;  // of the images, for the overlays
   if (!a.draw.empty() && images) {
     std::filesystem::create_directories(a.draw);
     vo->SetFrameObserver([&](int i, const window::FrameInput& f, const SE3d& T,
                              const window::SlidingWindowEstimator& map) {
-      WriteVoOverlay(a.draw, folder.files[i], vo->undistorter(), vo->K(), f, i, T, map);
+      WriteVoOverlay(a.draw, names[i], vo->undistorter(), vo->K(), f, i, T, map);
     });
   }
   VoRunLog log;
   log.point_stride = a.point_stride;
   log.read_ms = WallMs() - t_start;
-  log.frames.resize(n);
-  std::vector<std::optional<SE3d>> online(n);
+  std::vector<std::optional<SE3d>> online;
   double last_progress = WallMs();
-  for (int i = 0; i < n; ++i) {
-    VoFrameLog& f = log.frames[i];
+  VoImage image;
+  for (int i = 0;; ++i) {
+    VoFrameLog f;
     odometry::MonocularFrameResult r;
     if (images) {
-      std::string problem;
       const double t_read = ThreadCpuMs();
-      const cv::Mat image = ReadVoImage(folder.files[i], folder.camera, &problem);
+      if (!stream->Next(&image)) break;
       f.ms[kRead] = ThreadCpuMs() - t_read;
-      f.frontend = {{"image", folder.files[i]}};
-      if (image.empty()) {
-        f.frontend["skipped"] = problem;
+      if (!a.draw.empty()) names.push_back(image.name);
+      f.frontend = {{"image", image.name}};
+      if (image.image.empty()) {
+        f.frontend["skipped"] = image.problem;
         ++log.skipped_images;
-        std::cerr << "plucker vo: warning: skipped " << problem << "\n";
+        std::cerr << "plucker vo: warning: skipped " << image.problem << "\n";
       }
       VoFrameClock clock;
-      r = vo->AddImage(double(i) / a.images.frame_rate_hz, image, clock.frontend.Observer(),
-                       clock.window.Observer());
+      r = vo->AddImage(image.t, image.image, clock.frontend.Observer(), clock.window.Observer());
       clock.Into(&f);
       f.frontend["observed_points"] = r.observed_points;
       f.frontend["observed_segments"] = r.observed_segments;
     } else {
+      if (i >= n) break;
       VoFrameClock clock;
       r = vo->AddFrame(std::move(frames[i]), clock.window.Observer());
       clock.Into(&f);
     }
     f.online = r.status;
     f.online_pose = r.has_pose;
-    if (r.has_pose) online[i] = r.T_w_c;
+    online.push_back(r.has_pose ? std::optional<SE3d>(r.T_w_c) : std::nullopt);
+    log.frames.push_back(std::move(f));
     if (r.status == odometry::MonocularStatus::kReinitialized && !a.quiet) {
       std::cerr << "\nplucker vo: re-initialised on frames " << vo->Maps().back().first << " and "
                 << vo->Maps().back().second << "\n";
@@ -130,6 +136,9 @@ int Run(const VoArgs& a, VoConfig config) {
                 << std::flush;
     }
   }
+  if (stream)
+    for (const std::string& w : stream->warnings())
+      std::cerr << "plucker vo: warning: " << w << "\n";
   BasicStageClock<window::WindowStage, window::kNumWindowStages> finish_clock;
   const double t_finish = ThreadCpuMs();
   vo->Finish(finish_clock.Observer());
@@ -147,19 +156,19 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "vo",
       "Monocular point + line visual odometry (sliding window with marginalization, docs/vo.md) "
-      "on a features folder (docs/sim-format.md)");
+      "on a features folder (docs/sim-format.md), an image folder or a bag's image topic");
   CLI::Option* features = cmd->add_option(
       "--features", args->features,
       "Features folder: rig.txt, points.txt, segments.txt with track ids (docs/sim-format.md)");
   CLI::Option* images = cmd->add_option(
       "--images", args->images.images,
       "Image folder (image files in name order; undistorted, or with --sensor distorted)");
+  CLI::Option* bag = AddBagFlags(cmd, &args->images.bag, false,
+                                 "ROS 1 bag: the images of --image-topic (calibration from "
+                                 "--sensor or --calib)");
   features->excludes(images);
-  cmd->add_option("--calib", args->images.calib, "KITTI calib.txt (P0) of --images")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--sensor", args->images.sensor,
-                  "EuRoC cam0 sensor.yaml of --images (radial-tangential: undistorted first)")
-      ->check(CLI::ExistingFile);
+  bag->excludes(features)->excludes(images);
+  AddCameraFlags(cmd, &args->images.camera, CameraFlagSet{});
   cmd->add_option("--rate", args->images.frame_rate_hz, "Frame rate of --images (frame times)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -213,15 +222,9 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
     RunGuarded("vo", exit_code, [&] {
-      const VoImageSource& im = args->images;
-      if (args->features.empty() == im.images.empty()) {
-        throw std::invalid_argument("give --features DIR or --images DIR");
-      }
-      if (!im.images.empty() && im.calib.empty() == im.sensor.empty()) {
-        throw std::invalid_argument("--images needs --calib calib.txt or --sensor sensor.yaml");
-      }
+      CheckVoSources(args->features, args->images, args->draw);
       // Defaults (images: ImageVoConfig), then the file, then the flags given.
-      VoConfig config = im.images.empty() ? FeaturesVoConfig() : ImageVoConfig();
+      VoConfig config = args->features.empty() ? ImageVoConfig() : FeaturesVoConfig();
       if (!args->config.empty()) LoadVoConfig(args->config, &config);
       window::SlidingWindowOptions& w = config.window;
       if (window->count()) w.window_size = args->window;

@@ -81,6 +81,10 @@ double ToSeconds(const ros::Time& t) {
   return static_cast<double>(t.sec) + t.nsec / 1e9;
 }
 
+std::int64_t ToNanoseconds(const ros::Time& t) {
+  return static_cast<std::int64_t>(t.sec) * 1000000000 + static_cast<std::int64_t>(t.nsec);
+}
+
 // One selected topic: its view and the message it is at (decoded, one of the pointers set).
 struct TopicStream {
   std::string topic, type;
@@ -89,6 +93,7 @@ struct TopicStream {
   std::size_t index = 0;
   bool valid = false;
   double receive_s = 0.0, header_s = 0.0, last_stamp = -std::numeric_limits<double>::infinity();
+  std::int64_t receive_ns = 0, header_ns = 0;
   sensor_msgs::PointCloud2::ConstPtr cloud;
   sensor_msgs::Imu::ConstPtr imu;
   sensor_msgs::Image::ConstPtr image;
@@ -124,6 +129,7 @@ struct BagReader::Impl {
       try {
         const rosbag::MessageInstance& m = *s->it;
         s->receive_s = ToSeconds(m.getTime());
+        s->receive_ns = ToNanoseconds(m.getTime());
         s->cloud.reset(), s->imu.reset(), s->image.reset(), s->compressed.reset();
         const std_msgs::Header* header = nullptr;
         if (s->type == kPointCloud2 && (s->cloud = m.instantiate<sensor_msgs::PointCloud2>()))
@@ -141,6 +147,7 @@ struct BagReader::Impl {
           continue;
         }
         s->header_s = ToSeconds(header->stamp);
+        s->header_ns = ToNanoseconds(header->stamp);
         s->valid = true;
         return;
       } catch (const std::exception& e) {
@@ -257,6 +264,7 @@ bool BagReader::Next(MessageRef* message) {
   TopicStream& c = d.current;
   c.topic = best->topic, c.type = best->type, c.index = best->index, c.valid = true;
   c.receive_s = best->receive_s, c.header_s = best->header_s;
+  c.receive_ns = best->receive_ns, c.header_ns = best->header_ns;
   c.cloud = best->cloud, c.imu = best->imu, c.image = best->image, c.compressed = best->compressed;
   const double stamp = d.Stamp(*best);
   if (stamp < best->last_stamp) ++d.stats.out_of_order;
@@ -267,6 +275,8 @@ bool BagReader::Next(MessageRef* message) {
   if (message) {
     message->topic = c.topic, message->type = c.type, message->index = c.index;
     message->receive_s = c.receive_s, message->header_s = c.header_s, message->stamp_s = stamp;
+    message->receive_ns = c.receive_ns, message->header_ns = c.header_ns;
+    message->stamp_ns = d.stamp == StampSource::kHeader ? c.header_ns : c.receive_ns;
   }
   return true;
 }

@@ -63,6 +63,9 @@ struct MessageRef {
   std::size_t index = 0;  // in its topic, from 0 (receive order)
   double receive_s = 0.0, header_s = 0.0;
   double stamp_s = 0.0;  // the one of the chosen StampSource
+  // The same times in integer nanoseconds (exact: differences of them are what a folder's
+  // timestamp [ns] columns give).
+  std::int64_t receive_ns = 0, header_ns = 0, stamp_ns = 0;
 };
 
 struct StreamStats {

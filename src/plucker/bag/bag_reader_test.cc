@@ -310,6 +310,38 @@ TEST(BagReader, UnreadableMessageIsSkippedAndCounted) {
       << r.warnings()[0];
 }
 
+TEST(BagReader, NanosecondStampsAreExact) {
+  // Absolute stamps (a EuRoC recording's) in integer ns: the stream gives them back exactly,
+  // which doubles of seconds since 1970 cannot (their spacing there is ~0.24 us).
+  ScratchDir dir;
+  const std::string path = (dir / "ns.bag").string();
+  const std::int64_t t0 = 1403715273262142976LL;
+  {
+    BagWriter w(path);
+    sensor::ImuSample s;
+    w.WriteImuNs("/imu", t0 + 7, t0 + 1, s);
+    w.WriteImageNs("/cam", t0 + 5000003, t0 + 5000001, 2, 1, "mono8", {7, 9});
+    EXPECT_THROW(w.WriteImuNs("/imu", 0, 0, s), BagError);  // receive time 0 is not a ROS time
+  }
+  BagReader r(path);
+  r.Select({{"/imu", {kImu}}, {"/cam", {kImage}}}, StampSource::kHeader);
+  MessageRef m;
+  ASSERT_TRUE(r.Next(&m));
+  EXPECT_EQ(m.topic, "/imu");
+  EXPECT_EQ(m.header_ns, t0 + 1);
+  EXPECT_EQ(m.receive_ns, t0 + 7);
+  EXPECT_EQ(m.stamp_ns, t0 + 1);
+  ASSERT_TRUE(r.Next(&m));
+  EXPECT_EQ(m.stamp_ns, t0 + 5000001);
+  GrayImage image;
+  std::string error;
+  ASSERT_TRUE(r.ReadImage(&image, &error)) << error;
+  EXPECT_EQ(image.pixels, (std::vector<std::uint8_t>{7, 9}));
+  r.Select({{"/cam", {kImage}}}, StampSource::kReceive);
+  ASSERT_TRUE(r.Next(&m));
+  EXPECT_EQ(m.stamp_ns, t0 + 5000003);
+}
+
 TEST(BagWriter, RefusesToOverwrite) {
   ScratchDir dir;
   const std::string path = WriteSmallBag(dir);

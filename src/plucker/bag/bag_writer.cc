@@ -23,6 +23,38 @@ ros::Time ToTime(double t, double min_s, const std::string& what) {
   return time;
 }
 
+ros::Time NsToTime(std::int64_t ns, std::int64_t min_ns, const std::string& what) {
+  if (ns < min_ns || ns > 4000000000LL * 1000000000LL)
+    throw BagError(what + " time " + std::to_string(ns) + " ns out of range");
+  ros::Time time;
+  time.sec = static_cast<std::uint32_t>(ns / 1000000000);
+  time.nsec = static_cast<std::uint32_t>(ns % 1000000000);
+  return time;
+}
+
+sensor_msgs::Imu ImuMessage(const std_msgs::Header& header, const sensor::ImuSample& sample) {
+  sensor_msgs::Imu m;
+  m.header = header;
+  m.orientation_covariance[0] = -1.0;  // no orientation (REP 145)
+  m.angular_velocity.x = sample.gyro.x(), m.angular_velocity.y = sample.gyro.y();
+  m.angular_velocity.z = sample.gyro.z();
+  m.linear_acceleration.x = sample.accel.x(), m.linear_acceleration.y = sample.accel.y();
+  m.linear_acceleration.z = sample.accel.z();
+  return m;
+}
+
+sensor_msgs::Image ImageMessage(const std_msgs::Header& header, int width, int height,
+                                const std::string& encoding,
+                                const std::vector<std::uint8_t>& data) {
+  sensor_msgs::Image m;
+  m.header = header;
+  m.width = static_cast<std::uint32_t>(width), m.height = static_cast<std::uint32_t>(height);
+  m.encoding = encoding;
+  m.step = height > 0 ? static_cast<std::uint32_t>(data.size() / height) : 0;
+  m.data = data;
+  return m;
+}
+
 }  // namespace
 
 struct BagWriter::Impl {
@@ -32,16 +64,23 @@ struct BagWriter::Impl {
   bool open = false;
 
   std_msgs::Header Header(double header_s) const {
+    return HeaderAt(ToTime(header_s, 0.0, path + ": header"));
+  }
+  std_msgs::Header HeaderAt(const ros::Time& stamp) const {
     std_msgs::Header h;
-    h.stamp = ToTime(header_s, 0.0, path + ": header");
+    h.stamp = stamp;
     h.frame_id = options.frame_id;
     return h;
   }
   template <typename T>
   void Write(const std::string& topic, double receive_s, const T& msg) {
+    WriteAt(topic, ToTime(receive_s, 1e-9, path + ": receive"), msg);
+  }
+  template <typename T>
+  void WriteAt(const std::string& topic, const ros::Time& receive, const T& msg) {
     if (!open) throw BagError(path + ": written after Close");
     try {
-      bag.write(topic, ToTime(receive_s, 1e-9, path + ": receive"), msg);
+      bag.write(topic, receive, msg);
     } catch (const rosbag::BagException& e) {
       throw BagError(path + ": write failed: " + e.what());
     }
@@ -108,26 +147,30 @@ void BagWriter::WriteCloud(const std::string& topic, double receive_s, double he
 
 void BagWriter::WriteImu(const std::string& topic, double receive_s,
                          const sensor::ImuSample& sample) {
-  sensor_msgs::Imu m;
-  m.header = impl_->Header(sample.t);
-  m.orientation_covariance[0] = -1.0;  // no orientation (REP 145)
-  m.angular_velocity.x = sample.gyro.x(), m.angular_velocity.y = sample.gyro.y();
-  m.angular_velocity.z = sample.gyro.z();
-  m.linear_acceleration.x = sample.accel.x(), m.linear_acceleration.y = sample.accel.y();
-  m.linear_acceleration.z = sample.accel.z();
-  impl_->Write(topic, receive_s, m);
+  impl_->Write(topic, receive_s, ImuMessage(impl_->Header(sample.t), sample));
+}
+
+void BagWriter::WriteImuNs(const std::string& topic, std::int64_t receive_ns,
+                           std::int64_t header_ns, const sensor::ImuSample& sample) {
+  const std::string& p = impl_->path;
+  impl_->WriteAt(topic, NsToTime(receive_ns, 1, p + ": receive"),
+                 ImuMessage(impl_->HeaderAt(NsToTime(header_ns, 0, p + ": header")), sample));
+}
+
+void BagWriter::WriteImageNs(const std::string& topic, std::int64_t receive_ns,
+                             std::int64_t header_ns, int width, int height,
+                             const std::string& encoding, const std::vector<std::uint8_t>& data) {
+  const std::string& p = impl_->path;
+  impl_->WriteAt(topic, NsToTime(receive_ns, 1, p + ": receive"),
+                 ImageMessage(impl_->HeaderAt(NsToTime(header_ns, 0, p + ": header")), width,
+                              height, encoding, data));
 }
 
 void BagWriter::WriteImage(const std::string& topic, double receive_s, double header_s, int width,
                            int height, const std::string& encoding,
                            const std::vector<std::uint8_t>& data) {
-  sensor_msgs::Image m;
-  m.header = impl_->Header(header_s);
-  m.width = static_cast<std::uint32_t>(width), m.height = static_cast<std::uint32_t>(height);
-  m.encoding = encoding;
-  m.step = height > 0 ? static_cast<std::uint32_t>(data.size() / height) : 0;
-  m.data = data;
-  impl_->Write(topic, receive_s, m);
+  impl_->Write(topic, receive_s,
+               ImageMessage(impl_->Header(header_s), width, height, encoding, data));
 }
 
 void BagWriter::WriteCompressed(const std::string& topic, double receive_s, double header_s,

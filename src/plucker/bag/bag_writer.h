@@ -37,6 +37,13 @@ class BagWriter {
   void WriteImu(const std::string& topic, double receive_s, const sensor::ImuSample& sample);
   void WriteImage(const std::string& topic, double receive_s, double header_s, int width,
                   int height, const std::string& encoding, const std::vector<std::uint8_t>& data);
+  // The same with integer-nanosecond stamps (exact: a EuRoC folder's timestamp [ns] columns);
+  // receive_ns >= 1, header_ns >= 0. Throws BagError.
+  void WriteImuNs(const std::string& topic, std::int64_t receive_ns, std::int64_t header_ns,
+                  const sensor::ImuSample& sample);
+  void WriteImageNs(const std::string& topic, std::int64_t receive_ns, std::int64_t header_ns,
+                    int width, int height, const std::string& encoding,
+                    const std::vector<std::uint8_t>& data);
   void WriteCompressed(const std::string& topic, double receive_s, double header_s,
                        const std::string& format, const std::vector<std::uint8_t>& data);
   void Close();  // idempotent

@@ -6,11 +6,10 @@
 //                      zero coefficients (theta_d = theta is not tan(theta)). Valid up to an
 //                      angle of incidence of 90 deg or where theta_d stops increasing
 //                      (EquidistantValidTheta); beyond it every conversion returns nullopt.
-// Only the member of the selected model is used; the other is ignored. Caveat: the image warp
-// vision::Undistorter reads `distortion` only (radial-tangential); an equidistant camera needs
-// cv::fisheye::initUndistortRectifyMap there (the same model and coefficient order: checked
-// against cv::fisheye::projectPoints in io/kalibr_calibration_test.cc) before images of it are
-// undistorted.
+// Only the member of the selected model is used; the other is ignored. The image warp
+// vision::Undistorter maps both (an equidistant camera with cv::fisheye::initUndistortRectifyMap:
+// the same model and coefficient order, checked against cv::fisheye::projectPoints in
+// io/kalibr_calibration_test.cc).
 //
 // Pixel coordinates and camera frame as in camera_rig.h (u right, v down, pixel centres at
 // integers; z forward, x right, y down). Three kinds of 2D coordinates appear:

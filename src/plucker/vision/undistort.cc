@@ -39,10 +39,18 @@ Undistorter::Undistorter(const sensor::Camera& camera, const UndistorterOptions&
   identity_ = camera.IsPinhole() && SameIntrinsics(camera.K, ideal_.K) &&
               camera.width == ideal_.width && camera.height == ideal_.height;
   if (identity_) return;
+  const cv::Size size(ideal_.width, ideal_.height);
+  if (camera.model == sensor::CameraModel::kEquidistant) {  // the same model and order as KB
+    const EquidistantDistortion& e = camera.equidistant;
+    const cv::Vec4d dist(e.k1, e.k2, e.k3, e.k4);
+    cv::fisheye::initUndistortRectifyMap(ToCv(camera.K), dist, cv::Matx33d::eye(), ToCv(ideal_.K),
+                                         size, CV_16SC2, map1_, map2_);
+    return;
+  }
   const RadTanDistortion& d = camera.distortion;
   const cv::Mat dist = (cv::Mat_<double>(1, 5) << d.k1, d.k2, d.p1, d.p2, d.k3);
-  cv::initUndistortRectifyMap(ToCv(camera.K), dist, cv::noArray(), ToCv(ideal_.K),
-                              cv::Size(ideal_.width, ideal_.height), CV_16SC2, map1_, map2_);
+  cv::initUndistortRectifyMap(ToCv(camera.K), dist, cv::noArray(), ToCv(ideal_.K), size, CV_16SC2,
+                              map1_, map2_);
 }
 
 cv::Mat Undistorter::Undistort(const cv::Mat& raw) const {

@@ -5,7 +5,17 @@
 // The maps are built once per camera (cv::initUndistortRectifyMap, fixed-point CV_16SC2 maps,
 // 1/32 px resolution, for cv::remap's fast path) and reused for every frame. OpenCV's "plumb
 // bob" model (k1, k2, p1, p2, k3) is the radial-tangential model of geometry/distortion.h, term
-// for term.
+// for term; an equidistant (Kannala-Brandt, fisheye) camera is mapped with
+// cv::fisheye::initUndistortRectifyMap, whose [k1, k2, k3, k4] are geometry/equidistant.h's.
+//
+// Fisheye: the output is a pinhole view of the lens's central field of view (a pinhole cannot
+// show 180 deg). With the default (the camera's own K and size) the view keeps the lens's
+// resolution at the centre and spans 2 atan(w / 2 fx) horizontally (TUM-VI's 512 px at fx = 191:
+// 107 deg; T265's 848 px at fx = 285: 112 deg), so the whole view stays inside the lens's valid
+// angle. A wider view: a smaller output focal length (output_K, e.g. fx = w / (2 tan(fov / 2))
+// for a horizontal field of view fov), at the price of the centre's resolution and of
+// stretched, blurred borders (a pinhole magnifies the periphery by 1 / cos^2 of the angle);
+// the factors must then use that K (ideal_camera()).
 //
 // Output pinhole (UndistorterOptions):
 //   default       the camera's own K and image size: ideal pixels are in the calibration's units,

@@ -16,6 +16,7 @@ namespace vision {
 namespace {
 
 using sensor::testing::EurocCam0;
+using sensor::testing::TumViCam0;
 
 // Draws the image of the 3D segment a-b (camera frame) through the camera's distorted model: a
 // dense anti-aliased polyline of projected points, 4 px wide.
@@ -72,32 +73,46 @@ Straightness Measure(const cv::Mat& image, int u0, int u1, double truth_a, doubl
   return s;
 }
 
-// A straight 3D line near the top of the EuRoC image, imaged through the distorted model, is
-// curved in the raw image and straight, where the ideal pinhole puts it, after undistortion.
-TEST(Undistorter, StraightLineComesOutStraight) {
-  const sensor::Camera camera = EurocCam0();
-  const Eigen::Vector3d a(-2.0, -1.1, 3.0), b(2.0, -1.3, 3.0);
+struct BeforeAfter {
+  Straightness before, after;
+};
+
+// The 3D segment a-b (camera frame) drawn through the camera's lens model, undistorted with the
+// default output (the camera's K and size), and measured against the ideal pinhole image of the
+// line v = truth_a u + truth_b, in the raw image and after undistortion (columns inside the
+// segment, away from its round caps, and inside the image).
+BeforeAfter MeasureUndistortedLine(const char* name, const sensor::Camera& camera,
+                                   const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const cv::Mat raw = DrawDistortedLine(camera, a, b);
   const Undistorter undistorter(camera);
   EXPECT_FALSE(undistorter.IsIdentity());
   const cv::Mat ideal = undistorter.Undistort(raw);
-  ASSERT_EQ(ideal.size(), raw.size());
-  // The ideal pinhole image of the line: v = truth_a u + truth_b through the projections of a, b.
+  EXPECT_EQ(ideal.size(), raw.size());
   const sensor::Camera pinhole = undistorter.ideal_camera();
+  EXPECT_TRUE(pinhole.IsPinhole());
   const Eigen::Vector2d pa = *pinhole.Project(a), pb = *pinhole.Project(b);
   const double truth_a = (pb.y() - pa.y()) / (pb.x() - pa.x());
   const double truth_b = pa.y() - truth_a * pa.x();
-  // Columns inside the segment (away from its round caps).
   const Eigen::Vector2d ra = *camera.Project(a), rb = *camera.Project(b);
-  const Straightness before =
-      Measure(raw, cvCeil(ra.x()) + 5, cvFloor(rb.x()) - 5, truth_a, truth_b);
-  const Straightness after =
-      Measure(ideal, cvCeil(pa.x()) + 5, cvFloor(pb.x()) - 5, truth_a, truth_b);
+  const int last = camera.width - 6;
+  BeforeAfter r;
+  r.before = Measure(raw, std::max(cvCeil(ra.x()) + 5, 5), std::min(cvFloor(rb.x()) - 5, last),
+                     truth_a, truth_b);
+  r.after = Measure(ideal, std::max(cvCeil(pa.x()) + 5, 5), std::min(cvFloor(pb.x()) - 5, last),
+                    truth_a, truth_b);
   std::printf(
-      "raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
+      "%s raw: %d columns, max fit residual %.3f px; undistorted: %d columns, max fit "
       "residual %.3f px, distance to the pinhole image max %.3f px mean %.3f px\n",
-      before.columns, before.max_fit_residual, after.columns, after.max_fit_residual,
-      after.max_truth_error, after.mean_truth_error);
+      name, r.before.columns, r.before.max_fit_residual, r.after.columns, r.after.max_fit_residual,
+      r.after.max_truth_error, r.after.mean_truth_error);
+  return r;
+}
+
+// A straight 3D line near the top of the EuRoC image, imaged through the distorted model, is
+// curved in the raw image and straight, where the ideal pinhole puts it, after undistortion.
+TEST(Undistorter, StraightLineComesOutStraight) {
+  const auto [before, after] = MeasureUndistortedLine(
+      "radtan", EurocCam0(), Eigen::Vector3d(-2.0, -1.1, 3.0), Eigen::Vector3d(2.0, -1.3, 3.0));
   EXPECT_GT(before.columns, 450);
   EXPECT_GT(after.columns, 550);
   EXPECT_GT(before.max_fit_residual, 5.0);  // the raw image of the line is a curve
@@ -107,6 +122,43 @@ TEST(Undistorter, StraightLineComesOutStraight) {
   EXPECT_LT(after.max_fit_residual, 0.5);
   EXPECT_LT(after.max_truth_error, 0.5);
   EXPECT_LT(after.mean_truth_error, 0.25);
+}
+
+// The same on the TUM-VI fisheye (equidistant): a line well off the centre, strongly bent in the
+// raw image, is straight where the pinhole of the camera's K puts it (across the whole view).
+TEST(Undistorter, FisheyeStraightLineComesOutStraight) {
+  const auto [before, after] = MeasureUndistortedLine(
+      "fisheye", TumViCam0(), Eigen::Vector3d(-3.0, -1.2, 2.0), Eigen::Vector3d(3.0, -1.2, 2.0));
+  EXPECT_GT(before.columns, 200);
+  EXPECT_GT(after.columns, 450);
+  EXPECT_GT(before.max_fit_residual, 10.0);  // measured 19.7 px: a strong curve
+  // Measured: 0.42 px max fit residual, 0.40 px max / 0.15 px mean from the pinhole image.
+  EXPECT_LT(after.max_fit_residual, 0.5);
+  EXPECT_LT(after.max_truth_error, 0.5);
+  EXPECT_LT(after.mean_truth_error, 0.25);
+}
+
+// Fisheye point mapping: raw <-> ideal round trips, and a dot drawn at the raw position of an
+// ideal pixel peaks there after undistortion (the maps and the model agree).
+TEST(Undistorter, FisheyePointMappingMatchesTheImage) {
+  const sensor::Camera camera = TumViCam0();
+  const Undistorter undistorter(camera);
+  for (const Eigen::Vector2d& ideal : {Eigen::Vector2d(40, 30), Eigen::Vector2d(470, 480),
+                                       Eigen::Vector2d(255, 257), Eigen::Vector2d(100, 400)}) {
+    const auto raw_uv = undistorter.RawFromIdeal(ideal);
+    ASSERT_TRUE(raw_uv.has_value());
+    EXPECT_LT((*undistorter.IdealFromRaw(*raw_uv) - ideal).norm(), 1e-6);
+    cv::Mat raw(camera.height, camera.width, CV_8UC1, cv::Scalar(0));
+    cv::circle(raw, cv::Point(cvRound(raw_uv->x() * 16), cvRound(raw_uv->y() * 16)), 8,
+               cv::Scalar(255), -1, cv::LINE_AA, 4);
+    const cv::Moments m = cv::moments(undistorter.Undistort(raw));
+    ASSERT_GT(m.m00, 0);
+    // The pinhole view magnifies the periphery (1 / cos^2): the dot's centroid moves outwards a
+    // little more than in the radtan case.
+    EXPECT_LT((Eigen::Vector2d(m.m10 / m.m00, m.m01 / m.m00) - ideal).norm(), 0.4);
+  }
+  // A raw pixel beyond the lens's valid angle (TUM-VI's corners) has no ideal pixel.
+  EXPECT_FALSE(undistorter.IdealFromRaw(Eigen::Vector2d(0, 0)).has_value());
 }
 
 TEST(Undistorter, PointMappingMatchesTheImage) {
