@@ -40,6 +40,8 @@ def make_cases(rng):
     L_anchor = plucker.line_from_points(a_w - c_w, b_w - c_w)
     anchored = plucker.line_to_orthonormal(L_anchor)
     uv, s, e = rng.uniform(100, 500, 2), rng.uniform(100, 500, 2), rng.uniform(100, 500, 2)
+    v_uv, v_s, v_e = rng.uniform(-200, 200, 2), rng.uniform(-200, 200, 2), rng.uniform(-200, 200, 2)
+    td = np.array([rng.uniform(-0.02, 0.02)])
     P, W, L = "pose", None, "line"
     x_wb, x_bc, x_wc = pose_block(T_w_b), pose_block(T_b_c), pose_block(T_w_c)
     return [
@@ -56,6 +58,12 @@ def make_cases(rng):
         (["factor.line.AnchoredVI.tangent"],
          lambda ad: factors.anchored_line_vi(K, s, e, c_w, 1.0, S, ad), [x_wb, x_bc, anchored],
          [P, P, L]),
+        (["factor.point.ReprojectionVI.time_offset"],
+         lambda ad: factors.point_reprojection_vi_time_offset(K, uv, v_uv, S, ad),
+         [x_wb, x_bc, td, p_w], [P, P, W, W]),
+        (["factor.line.AnchoredVI.time_offset"],
+         lambda ad: factors.anchored_line_vi_time_offset(K, s, e, v_s, v_e, c_w, 1.0, S, ad),
+         [x_wb, x_bc, td, anchored], [P, P, W, L]),
         (["factor.lidar.PointToPlane"],
          lambda ad: factors.point_to_plane(rng_point, [0.0, 0.6, 0.8], [1.0, 2.0, 0.5], 0.05, ad),
          [x_wb], [P]),
@@ -69,12 +77,8 @@ rng_point = np.array([4.0, -2.0, 1.0])
 # Registry factors without a Python binding: the comparison variants of the LiDAR edge residual
 # (verify/lidar_comparison_factors.h, not library factors), the IMU preintegration factor and
 # marginalization priors (built from whole problems, not from one measurement).
-# The factors the package does not bind yet (each still has its C++ check in the registry). The
-# camera-IMU time-offset factors came with the window's td estimation (issue 26 section 3), after
-# the bindings were written: binding them is open work.
 NOT_BOUND = {"factor.lidar.PointToEdge2", "factor.lidar.PointToEdgeScalar",
-             "factor.imu.Preintegration", "factor.marginalization.Prior",
-             "factor.line.AnchoredVI.time_offset", "factor.point.ReprojectionVI.time_offset"}
+             "factor.imu.Preintegration", "factor.marginalization.Prior"}
 
 
 def test_every_registry_factor_is_bound_and_its_cpp_check_passes():
@@ -134,7 +138,7 @@ def test_python_values_match_the_autodiff_twins_and_central_differences():
                 err = np.linalg.norm(analytic - numeric) / max(1.0, np.linalg.norm(numeric))
                 assert err < 1e-5, (names[0], k, err)  # fixed step here; Ridders in C++ (1e-6)
                 checked += 1
-    assert checked == 20 * 17
+    assert checked == 20 * 25
 
 
 def test_bad_blocks_raise():
