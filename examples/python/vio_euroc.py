@@ -19,7 +19,8 @@ parser.add_argument("--out", default="vio.tum", help="TUM trajectory (t tx ty tz
 args = parser.parse_args()
 
 data = plucker.read_euroc(args.euroc)
-vio = plucker.VisualInertialOdometry(data["camera"], data["camera"]["T_b_c"], data["imu_model"])
+camera = data["camera"]  # T_b_c_tq: tx ty tz qx qy qz qw, exact (a 4x4 would do, rounded)
+vio = plucker.VisualInertialOdometry(camera, camera["T_b_c_tq"], data["imu_model"])
 imu, fed = data["imu"], 0
 for t, image in zip(data["frame_times"], data["images"]):
     end = min(int(np.searchsorted(imu[:, 0], t)) + 1, len(imu))  # the IMU up to t
@@ -32,6 +33,6 @@ for t, image in zip(data["frame_times"], data["images"]):
 vio.add_imu(imu[fed:])
 vio.finish()
 refined = vio.refined_trajectory()
-plucker.write_tum(args.out, refined["times"], refined["T_w_b"], origin_ns=data["origin_ns"],
+plucker.write_tum(args.out, refined["times"], refined["T_w_b_tq"], origin_ns=data["origin_ns"],
                   comments=["T_w_b: the body (IMU) frame, refined (frames before the start backfilled)"])
 print(f"{vio.initialization['method']} start; wrote {len(refined['times'])} poses to {args.out}")

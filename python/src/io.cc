@@ -63,6 +63,7 @@ py::dict EurocDict(io::EurocDataset&& e) {
   camera["width"] = c.width;
   camera["height"] = c.height;
   camera["T_b_c"] = PoseMatrix(e.cam0.T_b_c);
+  camera["T_b_c_tq"] = PoseTq(e.cam0.T_b_c);  // exact (the 4x4's quaternion rounds)
   camera["rate_hz"] = e.cam0.rate_hz;
   Eigen::MatrixXd imu(static_cast<Eigen::Index>(e.imu.imu.size()), 7);
   for (std::size_t i = 0; i < e.imu.imu.size(); ++i) {

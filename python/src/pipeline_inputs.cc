@@ -73,7 +73,8 @@ sensor::Camera CameraArg(const py::handle& obj, const char* who) {
   const py::dict d = DictArg(obj, who, "camera");
   // The extra keys of read_euroc's camera dict are accepted (and ignored) so that it can be
   // passed as it is.
-  CheckKeys(d, {"K", "width", "height", "distortion", "T_b_c", "rate_hz"}, who, "camera");
+  CheckKeys(d, {"K", "width", "height", "distortion", "T_b_c", "T_b_c_tq", "rate_hz"}, who,
+            "camera");
   for (const char* key : {"K", "width", "height"})
     if (!d.contains(key)) throw py::value_error(std::string(who) + ": camera needs '" + key + "'");
   sensor::Camera c;

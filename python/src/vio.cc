@@ -29,6 +29,10 @@ py::object OptionalPose(const std::optional<SE3d>& T) {
   if (!T) return py::none();
   return PoseMatrix(*T);
 }
+py::object OptionalTq(const std::optional<SE3d>& T) {
+  if (!T) return py::none();
+  return PoseTq(*T);
+}
 
 py::dict RecordDict(const VioFrameRecord& r) {
   py::dict d;
@@ -36,6 +40,7 @@ py::dict RecordDict(const VioFrameRecord& r) {
   d["time"] = r.time;
   d["status"] = odometry::ToString(r);
   d["T_w_b"] = OptionalPose(r.T_w_b);
+  d["T_w_b_tq"] = OptionalTq(r.T_w_b);
   d["keyframe"] = r.keyframe;
   return d;
 }
@@ -46,6 +51,7 @@ py::dict ResultDict(const VioFrameResult& r) {
   d["time"] = r.time;
   d["status"] = odometry::ToString(r.status);
   d["T_w_b"] = OptionalPose(r.T_w_b);
+  d["T_w_b_tq"] = OptionalTq(r.T_w_b);
   d["v_w"] = ToVector(r.v_w);
   d["gyro_bias"] = ToVector(r.bias.gyro);
   d["accel_bias"] = ToVector(r.bias.accel);
@@ -179,6 +185,7 @@ class PyVisualInertialOdometry {
     d["frames"] = frames;
     d["times"] = DoubleArray(std::move(times));
     d["T_w_b"] = PoseMatrices(poses);
+    d["T_w_b_tq"] = PosesTq(poses);
     d["status"] = statuses;
     d["keyframe"] = keyframes;
     d["frames_given"] = records.size();
@@ -230,7 +237,8 @@ void RegisterVio(py::module_& m) {
            py::arg("pixel_sigma") = 1.0,
            "camera: dict K (fx, fy, cx, cy), width, height, distortion (k1, k2, p1, p2) of the\n"
            "raw images (read_euroc(...)['camera'] as it is); T_b_c: the camera in the body (IMU)\n"
-           "frame (4, 4); imu_model: dict of noise densities and random walks\n"
+           "frame (4, 4), or (7,) tx ty tz qx qy qz qw (read_euroc's camera['T_b_c_tq'], exact);\n"
+           "imu_model: dict of noise densities and random walks\n"
            "(read_euroc(...)['imu_model']). Options: the keys of `plucker vio --config`\n"
            "(window=10, use_lines=False, estimate_time_offset=True, ...); config: such a YAML "
            "file.\n"
@@ -245,7 +253,8 @@ void RegisterVio(py::module_& m) {
           "A raw 8-bit grayscale image (H, W) uint8 of the camera at time t (s, the IMU's clock),\n"
           "read in place (no copy; rows must be contiguous): undistorted, the image front end,\n"
           "the window. Returns the frame's result: dict frame, time, status, T_w_b (4, 4) or\n"
-          "None while initialising, v_w, gyro_bias, accel_bias, keyframe, window (statistics),\n"
+          "None while initialising (T_w_b_tq: (7,) tx ty tz qx qy qz qw), v_w, gyro_bias, "
+          "accel_bias, keyframe, window (statistics),\n"
           "observed_points, observed_segments, settled (frames whose refined pose became final)\n"
           "and message. The GIL is released meanwhile.")
       .def("add_frame", &PyVisualInertialOdometry::AddFrame, py::arg("t"),
@@ -259,7 +268,8 @@ void RegisterVio(py::module_& m) {
            "when it cannot start).")
       .def("refined_trajectory", &PyVisualInertialOdometry::Refined,
            "Every frame with a pose, the frames before the start backfilled (plucker vio --out):\n"
-           "dict frames, times, T_w_b (N, 4, 4), status, keyframe, frames_given.")
+           "dict frames, times, T_w_b (N, 4, 4), T_w_b_tq (N, 7) rows tx ty tz qx qy qz qw, "
+           "status, keyframe, frames_given.")
       .def_property_readonly("initialized", &PyVisualInertialOdometry::Initialized)
       .def_property_readonly("initialization", &PyVisualInertialOdometry::Initialization,
                              "dict done, method (static | dynamic), first, second.")

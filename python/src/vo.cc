@@ -180,7 +180,7 @@ void RegisterVo(py::module_& m) {
            "undistorted first) or K = (fx, fy, cx, cy) of undistorted pixels. defaults: 'images'\n"
            "(the speed settings of plucker vo --images) or 'features' (those of --features).\n"
            "Options: the keys of `plucker vo --config`, dotted or grouped\n"
-           "(window={'size': 8}, **{'points.target_count': 150}); config: such a YAML file;\n"
+           "(window={'size': 8}, **{'points.max_tracks': 150}); config: such a YAML file;\n"
            "max_lost_frames as --max-lost; pixel_sigma: the observation noise of add_frame's\n"
            "pixels (plucker vo --features takes the folder's). Bad keys raise ValueError.")
       .def("add_image", &PyMonocularOdometry::AddImage, py::arg("t"), py::arg("image"),

@@ -1,6 +1,8 @@
-"""The online camera pipelines from Python: VisualInertialOdometry fed the shared EuRoC head in
-time order gives byte-identical trajectories to `plucker vio --euroc` (--out and --out-online),
+"""The online camera pipelines from Python: VisualInertialOdometry fed the shared EuRoC head (and
+the MH_05 clip's first frames) in time order gives the poses of `plucker vio --euroc` (--out and
+--out-online) bit for bit,
 MonocularOdometry fed the first KITTI clip images those of `plucker vo --images`; bad input."""
+import os
 import pathlib
 import subprocess
 import threading
@@ -11,6 +13,7 @@ import pytest
 import plucker
 
 KITTI_CLIP_FRAMES = 15  # enough for the start and a few tracked frames, small under ASan
+MH05_PREFIX_FRAMES = 95  # the online start is at frame ~71 on the whole clip
 
 
 def poses_lines(path: pathlib.Path):
@@ -19,7 +22,8 @@ def poses_lines(path: pathlib.Path):
 
 def run_vio(euroc: dict, **options):
     """The loop of `plucker vio`: the IMU up to each image's time, then the image."""
-    vio = plucker.VisualInertialOdometry(euroc["camera"], euroc["camera"]["T_b_c"],
+    # T_b_c_tq: the extrinsic's own numbers (a 4x4's quaternion rounds in the last bit)
+    vio = plucker.VisualInertialOdometry(euroc["camera"], euroc["camera"]["T_b_c_tq"],
                                          euroc["imu_model"], **options)
     imu = euroc["imu"]
     fed, online = 0, []
@@ -37,30 +41,83 @@ def run_vio(euroc: dict, **options):
     return vio, online, end
 
 
-def test_vio_same_trajectories_as_the_command_line(euroc_folder, plucker_cli, tmp_path):
+def tum_rows(path: pathlib.Path):
+    """The stamps (text) and the poses tx ty tz qx qy qz qw (shortest exact text: the doubles)."""
+    rows = [line.split() for line in poses_lines(path)]
+    return [r[0] for r in rows], np.array([[float(v) for v in r[1:]] for r in rows]).reshape(-1, 7)
+
+
+def same_as_file(times, poses_tq, path: pathlib.Path, origin_ns: int, tmp_path: pathlib.Path):
+    """The poses are the file's numbers bit for bit; their stamps are its text on the clock."""
+    stamps, cli = tum_rows(path)
+    ours = tmp_path / "stamps.tum"
+    plucker.write_tum(str(ours), times, np.tile(np.eye(4), (len(times), 1, 1)),
+                      origin_ns=origin_ns)
+    assert tum_rows(ours)[0] == stamps
+    assert np.array_equal(np.asarray(poses_tq).reshape(-1, 7), cli)
+
+
+def vio_against_the_command_line(folder, plucker_cli, tmp_path):
     out, out_online = tmp_path / "cli.tum", tmp_path / "cli-online.tum"
-    subprocess.run([plucker_cli, "vio", "--euroc", str(euroc_folder), "--out", str(out),
+    subprocess.run([plucker_cli, "vio", "--euroc", str(folder), "--out", str(out),
                     "--out-online", str(out_online), "--quiet"], check=True)
-    euroc = plucker.read_euroc(str(euroc_folder))
+    euroc = plucker.read_euroc(str(folder))
     vio, online, end = run_vio(euroc)
     assert vio.initialized and vio.initialization["done"]
     with_pose = [r for r in online if r["T_w_b"] is not None]
-    assert len(with_pose) > 0.5 * len(online)
-    r = with_pose[-1]
-    assert r["T_w_b"].shape == (4, 4) and r["v_w"].shape == (3,) and r["gyro_bias"].shape == (3,)
-    assert isinstance(r["window"]["tracked_points"], int) and r["observed_points"] > 0
-
-    py_online = tmp_path / "py-online.tum"
-    plucker.write_tum(str(py_online), [r["time"] for r in with_pose],
-                      np.stack([r["T_w_b"] for r in with_pose]), origin_ns=euroc["origin_ns"])
-    assert poses_lines(py_online) == poses_lines(out_online)
+    same_as_file([r["time"] for r in with_pose], [r["T_w_b_tq"] for r in with_pose], out_online,
+                 euroc["origin_ns"], tmp_path)
     refined = vio.refined_trajectory()
     assert refined["frames_given"] == len(online)
-    py_out = tmp_path / "py.tum"
-    plucker.write_tum(str(py_out), refined["times"], refined["T_w_b"],
-                      origin_ns=euroc["origin_ns"])
-    assert poses_lines(py_out) == poses_lines(out)
-    assert len(poses_lines(out)) == len(refined["times"]) > 0
+    same_as_file(refined["times"], refined["T_w_b_tq"], out, euroc["origin_ns"], tmp_path)
+    assert len(poses_lines(out)) == len(refined["times"]) == len(online)
+    settled = [s["frame"] for r in online + [end] for s in r["settled"]]
+    assert settled == list(range(len(online)))  # each frame settles once, in order
+    return vio, online, end
+
+
+def test_vio_euroc_head_same_trajectories_as_the_command_line(euroc_folder, plucker_cli,
+                                                              tmp_path):
+    # The drone stands still throughout: the static start decides at finish(), so every pose is
+    # a refined one (the online trajectory is empty, in both).
+    vio, online, end = vio_against_the_command_line(euroc_folder, plucker_cli, tmp_path)
+    assert vio.initialization["method"] == "static"
+    assert all(r["status"] == "initializing" and r["T_w_b"] is None for r in online)
+    assert len(end["settled"]) == len(online) and end["settled"][-1]["T_w_b"].shape == (4, 4)
+
+
+@pytest.fixture
+def euroc_mh05_prefix(tmp_path) -> pathlib.Path:
+    """The first MH05_PREFIX_FRAMES images of the MH_05 clip (the dynamic start and ~20 tracked
+    frames), the rest of the folder linked."""
+    from conftest import _shared_data
+    if os.environ.get("PLUCKER_ASAN_RUNTIME"):
+        pytest.skip("the MH_05 prefix (~8 s CPU in Release) runs in the Release tests only")
+    clip = _shared_data() / "euroc-mh05-clip" / "mav0"
+    if not (clip / "cam0").is_dir():
+        pytest.skip(f"shared EuRoC MH_05 clip not found at {clip}")
+    mav0 = tmp_path / "mh05" / "mav0"
+    (mav0 / "cam0").mkdir(parents=True)
+    for entry in clip.iterdir():
+        if entry.name != "cam0":
+            (mav0 / entry.name).symlink_to(entry)
+    for entry in ("data", "sensor.yaml"):
+        (mav0 / "cam0" / entry).symlink_to(clip / "cam0" / entry)
+    rows = (clip / "cam0" / "data.csv").read_text().splitlines(keepends=True)
+    (mav0 / "cam0" / "data.csv").write_text("".join(rows[:1 + MH05_PREFIX_FRAMES]))
+    return mav0.parent
+
+
+def test_vio_euroc_mh05_online_poses_same_as_the_command_line(euroc_mh05_prefix, plucker_cli,
+                                                              tmp_path):
+    vio, online, _ = vio_against_the_command_line(euroc_mh05_prefix, plucker_cli, tmp_path)
+    assert vio.initialization["method"] == "dynamic"
+    tracked = [r for r in online if r["T_w_b"] is not None]
+    assert len(tracked) >= 10, [r["status"] for r in online]
+    r = tracked[-1]
+    assert r["T_w_b"].shape == (4, 4) and r["v_w"].shape == (3,) and r["gyro_bias"].shape == (3,)
+    assert np.linalg.norm(r["v_w"]) > 0.1  # the drone has taken off
+    assert isinstance(r["window"]["tracked_points"], int) and r["observed_points"] > 0
 
 
 def kitti_clip(tmp_path: pathlib.Path, data: pathlib.Path):
@@ -160,7 +217,7 @@ def test_vio_options_are_the_config_keys():
 def test_vio_bad_input_raises_with_the_message():
     vio = plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU)
     vio.add_imu(0.0, [0, 0, 0], [0, 0, 9.81])
-    with pytest.raises(ValueError, match="sample 1 .* times must increase"):
+    with pytest.raises(ValueError, match="sample 1 .*times must increase"):
         vio.add_imu(np.array([[0.1, 0, 0, 0, 0, 0, 9.81], [0.05, 0, 0, 0, 0, 0, 9.81]]))
     vio.add_imu(0.1, [0, 0, 0], [0, 0, 9.81])  # nothing of the bad batch was added
     with pytest.raises(ValueError, match="row 0 contains NaN"):
@@ -184,7 +241,7 @@ def test_vio_bad_input_raises_with_the_message():
 
 
 def test_vo_options_and_bad_input():
-    plucker.MonocularOdometry(CAMERA, window={"size": 8}, **{"points.target_count": 150})
+    plucker.MonocularOdometry(CAMERA, window={"size": 8}, **{"points.max_tracks": 150})
     plucker.MonocularOdometry([450.0, 450.0, 320.0, 240.0], defaults="features", pixel_sigma=1.0)
     with pytest.raises(ValueError, match="unknown key 'window.sise'"):
         plucker.MonocularOdometry(CAMERA, window={"sise": 8})
