@@ -93,6 +93,15 @@ void RegisterLineFactor(py::module_& m, const char* name, const char* doc) {
       py::arg("autodiff") = false, doc);
 }
 
+LineAnchor AnchorArg(const py::handle& c_w, double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw py::value_error("scale: must be positive and finite");
+  LineAnchor anchor;
+  anchor.c_w = Vec<3>(c_w, "c_w");
+  anchor.scale = scale;
+  return anchor;
+}
+
 template <typename F>
 void RegisterAnchoredFactor(py::module_& m, const char* name, const char* doc) {
   m.def(
@@ -102,11 +111,7 @@ void RegisterAnchoredFactor(py::module_& m, const char* name, const char* doc) {
         const PinholeIntrinsics k = Intrinsics(K);
         const Eigen::Vector2d a = Vec<2>(s, "s_px"), b = Vec<2>(e, "e_px");
         const Eigen::Matrix2d S = SqrtInformation(sqrt_information);
-        if (!(scale > 0.0) || !std::isfinite(scale))
-          throw py::value_error("scale: must be positive and finite");
-        LineAnchor anchor;
-        anchor.c_w = Vec<3>(c_w, "c_w");
-        anchor.scale = scale;
+        const LineAnchor anchor = AnchorArg(c_w, scale);
         return Wrap(
             autodiff ? F::CreateAutoDiff(k, a, b, S, anchor) : F::Create(k, a, b, S, anchor), name,
             autodiff);
@@ -160,11 +165,7 @@ void RegisterTimeOffsetFactors(py::module_& m) {
         const Eigen::Vector2d a = Vec<2>(s, "s_px"), b = Vec<2>(e, "e_px");
         const Eigen::Vector2d va = Vec<2>(v_s, "s_velocity"), vb = Vec<2>(v_e, "e_velocity");
         const Eigen::Matrix2d S = SqrtInformation(sqrt_information);
-        if (!(scale > 0.0) || !std::isfinite(scale))
-          throw py::value_error("scale: must be positive and finite");
-        LineAnchor anchor;
-        anchor.c_w = Vec<3>(c_w, "c_w");
-        anchor.scale = scale;
+        const LineAnchor anchor = AnchorArg(c_w, scale);
         return Wrap(autodiff ? LineTd::CreateAutoDiff(k, a, b, va, vb, S, anchor)
                              : LineTd::Create(k, a, b, va, vb, S, anchor),
                     "anchored_line_vi_time_offset", autodiff);

@@ -7,6 +7,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -41,6 +42,22 @@ window::FrameInput FrameArg(double t, const py::handle& points, const py::handle
                             int frame, const char* who);
 
 py::dict WindowDict(const window::FrameResult& r);
+
+// f() with the GIL released and `mutex` held: the lock is taken without the GIL and given back
+// before the GIL is taken again (no deadlock with a thread that holds the GIL and waits for it).
+template <typename F>
+auto WithoutGil(std::mutex& mutex, F&& f) {
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(mutex);
+  return f();
+}
+
+// f() with `mutex` held (the GIL kept: short calls).
+template <typename F>
+auto Locked(std::mutex& mutex, F&& f) {
+  std::lock_guard<std::mutex> lock(mutex);
+  return f();
+}
 
 // A finite time, or ValueError naming `who`.
 double TimeArg(const py::handle& t, const char* who);

@@ -131,40 +131,19 @@ class PyVisualInertialOdometry {
   py::dict AddImage(const py::handle& t, const py::array& image) {
     const double time = TimeArg(t, "add_image");
     const cv::Mat view = GrayImageView(image, "add_image");
-    VioFrameResult r;
-    {
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);
-      r = vio_->AddImage(time, view);
-    }
-    return ResultDict(r);
+    return ResultDict(WithoutGil(mutex_, [&] { return vio_->AddImage(time, view); }));
   }
 
   py::dict AddFrame(const py::handle& t, const py::handle& points, const py::handle& segments) {
     const double time = TimeArg(t, "add_frame");
-    int frame = 0;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      frame = static_cast<int>(vio_->RefinedTrajectory().size());
-    }
+    const int frame =
+        Locked(mutex_, [&] { return static_cast<int>(vio_->RefinedTrajectory().size()); });
     const window::FrameInput input = FrameArg(time, points, segments, frame, "add_frame");
-    VioFrameResult r;
-    {  // the lock is taken without the GIL and given back before the GIL is taken again
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);
-      r = vio_->AddFrame(input);
-    }
-    return ResultDict(r);
+    return ResultDict(WithoutGil(mutex_, [&] { return vio_->AddFrame(input); }));
   }
 
   py::dict Finish() {
-    VioFrameResult r;
-    {
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);
-      r = vio_->Finish();
-    }
-    return ResultDict(r);
+    return ResultDict(WithoutGil(mutex_, [&] { return vio_->Finish(); }));
   }
 
   py::dict Refined() {

@@ -88,36 +88,18 @@ class PyMonocularOdometry {
       throw py::value_error("add_image: the image is " + std::to_string(view.cols) + "x" +
                             std::to_string(view.rows) + ", the camera " +
                             std::to_string(size_->first) + "x" + std::to_string(size_->second));
-    MonocularFrameResult r;
-    {
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);
-      r = vo_->AddImage(time, view);
-    }
-    return ResultDict(r);
+    return ResultDict(WithoutGil(mutex_, [&] { return vo_->AddImage(time, view); }));
   }
 
   py::dict AddFrame(const py::handle& t, const py::handle& points, const py::handle& segments) {
     const double time = TimeArg(t, "add_frame");
-    int frame = 0;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      frame = static_cast<int>(vo_->Trajectory().size());
-    }
+    const int frame = Locked(mutex_, [&] { return static_cast<int>(vo_->Trajectory().size()); });
     window::FrameInput input = FrameArg(time, points, segments, frame, "add_frame");
-    MonocularFrameResult r;
-    {  // the lock is taken without the GIL and given back before the GIL is taken again
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);
-      r = vo_->AddFrame(std::move(input));
-    }
-    return ResultDict(r);
+    return ResultDict(WithoutGil(mutex_, [&] { return vo_->AddFrame(std::move(input)); }));
   }
 
   void Finish() {
-    py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(mutex_);
-    vo_->Finish();
+    WithoutGil(mutex_, [&] { vo_->Finish(); });
   }
 
   py::dict Trajectory() {

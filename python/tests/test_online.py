@@ -5,12 +5,12 @@ MonocularOdometry fed the first KITTI clip images those of `plucker vo --images`
 import os
 import pathlib
 import subprocess
-import threading
 
 import numpy as np
 import pytest
 
 import plucker
+from conftest import _shared_data, run_in_two_threads
 
 KITTI_CLIP_FRAMES = 15  # enough for the start and a few tracked frames, small under ASan
 MH05_PREFIX_FRAMES = 95  # the online start is at frame ~71 on the whole clip
@@ -90,7 +90,6 @@ def test_vio_euroc_head_same_trajectories_as_the_command_line(euroc_folder, pluc
 def euroc_mh05_prefix(tmp_path) -> pathlib.Path:
     """The first MH05_PREFIX_FRAMES images of the MH_05 clip (the dynamic start and ~20 tracked
     frames), the rest of the folder linked."""
-    from conftest import _shared_data
     if os.environ.get("PLUCKER_ASAN_RUNTIME"):
         pytest.skip("the MH_05 prefix (~8 s CPU in Release) runs in the Release tests only")
     clip = _shared_data() / "euroc-mh05-clip" / "mav0"
@@ -136,7 +135,6 @@ def kitti_clip(tmp_path: pathlib.Path, data: pathlib.Path):
 
 @pytest.fixture
 def kitti_mono_clip() -> pathlib.Path:
-    from conftest import _shared_data
     folder = _shared_data() / "kitti-mono-clip"
     if not (folder / "image_0").is_dir():
         pytest.skip(f"shared KITTI mono clip not found at {folder}")
@@ -173,22 +171,8 @@ def test_two_vo_in_two_threads_give_the_sequential_poses(kitti_mono_clip, tmp_pa
     _, camera, images = kitti_clip(tmp_path, kitti_mono_clip)
     images = images[:8]
     sequential = run_vo(camera, images)[0].trajectory()["T_w_c"]
-    results, errors = {}, []
-
-    def run(key):
-        try:
-            results[key] = run_vo(camera, images)[0].trajectory()["T_w_c"]
-        except Exception as e:  # reported by the main thread
-            errors.append(e)
-
-    threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
-    for th in threads:
-        th.start()
-    for th in threads:
-        th.join()
-    assert not errors, errors
-    for k in range(2):
-        assert np.array_equal(results[k], sequential)
+    for poses in run_in_two_threads(lambda: run_vo(camera, images)[0].trajectory()["T_w_c"]):
+        assert np.array_equal(poses, sequential)
 
 
 CAMERA = {"K": [450.0, 450.0, 320.0, 240.0], "width": 640, "height": 480}
