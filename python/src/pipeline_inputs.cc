@@ -31,9 +31,10 @@ py::dict DictArg(const py::handle& obj, const char* who, const char* what) {
 }
 
 int IntArg(const py::handle& v, const std::string& name) {
-  if (!py::isinstance<py::int_>(v) || py::isinstance<py::bool_>(v))
+  // Python and numpy integers (anything with __index__), not bools.
+  if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__index__"))
     throw py::type_error(name + ": expected an integer");
-  return v.cast<int>();
+  return py::int_(v.attr("__index__")()).cast<int>();
 }
 
 // A 2-D real array of `cols` columns (rows >= 0) as doubles, finite.

@@ -190,6 +190,10 @@ def test_vio_options_are_the_config_keys():
         plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window=1)
     with pytest.raises(ValueError, match="point_stride"):
         plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, point_stride=2)
+    numpy_ints = dict(CAMERA, width=np.int64(640), height=np.int32(480))
+    plucker.VisualInertialOdometry(numpy_ints, np.eye(4), IMU)
+    with pytest.raises(TypeError, match=r"camera\['width'\]: expected an integer"):
+        plucker.VisualInertialOdometry(dict(CAMERA, width=640.0), np.eye(4), IMU)
     with pytest.raises(ValueError, match="camera needs 'width'"):
         plucker.VisualInertialOdometry({"K": [1.0, 1.0, 0.0, 0.0]}, np.eye(4), IMU)
     with pytest.raises(ValueError, match="unknown imu_model key 'gyro_noise'"):
