@@ -14,7 +14,8 @@ VIO_EUROC_DATA ?= $(VIO_EUROC_HEAD) ../shared/data/euroc-mh05-clip
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: deps release demo test sanitize downstream vio-euroc-release format clean bench python
+.PHONY: deps release demo test sanitize downstream vio-euroc-release format clean bench python \
+  fresh-clone-python
 
 deps:
 	./scripts/install_deps.sh
@@ -28,6 +29,11 @@ PYTHON_PREFIX ?= build/prefix-python
 python: release
 	cmake --install $(RELEASE_DIR) --prefix $(abspath $(PYTHON_PREFIX)) > /dev/null
 	@echo "import plucker works with: export PYTHONPATH=$(abspath $(PYTHON_PREFIX))/lib/python3/dist-packages"
+
+# The README's Python set-up on a fresh clone of the committed HEAD, then the LiDAR example
+# (tests/fresh_clone_python.sh; a full Release build: run once and record it, not in ctest).
+fresh-clone-python:
+	nice tests/fresh_clone_python.sh
 
 demo: release
 	$(RELEASE_DIR)/apps/plucker/plucker demo --out out/demo

@@ -62,21 +62,8 @@ const std::vector<std::pair<std::string, ConfigSetter>>& ConfigFields() {
   return fields;
 }
 
-}  // namespace
-
-std::string VioConfigKeys() {
-  std::string keys;
-  for (const auto& f : ConfigFields()) keys += (keys.empty() ? "" : ", ") + f.first;
-  return keys;
-}
-
-void ApplyVioConfig(const std::string& path, VioConfig* c) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw io::IoError(path, "invalid YAML: " + e.msg);
-  }
+// Applies a YAML map of keys; messages name `path`.
+void ApplyVioConfigNode(const YAML::Node& root, const std::string& path, VioConfig* c) {
   if (root.IsNull()) return;
   if (!root.IsMap()) throw io::IoError(path, "expected a map of option: value");
   for (const auto& kv : root) {
@@ -101,6 +88,34 @@ void ApplyVioConfig(const std::string& path, VioConfig* c) {
                       "T_b_c must be 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero "
                       "quaternion");
   }
+}
+
+}  // namespace
+
+std::string VioConfigKeys() {
+  std::string keys;
+  for (const auto& f : ConfigFields()) keys += (keys.empty() ? "" : ", ") + f.first;
+  return keys;
+}
+
+void ApplyVioConfig(const std::string& path, VioConfig* c) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw io::IoError(path, "invalid YAML: " + e.msg);
+  }
+  ApplyVioConfigNode(root, path, c);
+}
+
+void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* c) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw io::IoError(name, "invalid YAML: " + e.msg);
+  }
+  ApplyVioConfigNode(root, name, c);
 }
 
 }  // namespace app

@@ -24,6 +24,8 @@ std::string VioConfigKeys();
 // Reads --config: a YAML map of keys. Unknown keys, wrong types and values out of range are
 // io::IoError naming the file.
 void ApplyVioConfig(const std::string& path, VioConfig* config);
+// The same for YAML text (`name` stands for the file in the messages, e.g. the Python options).
+void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* config);
 
 }  // namespace app
 }  // namespace plucker

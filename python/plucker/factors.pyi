@@ -36,6 +36,13 @@ def anchored_line(K: ArrayLike, s_px: ArrayLike, e_px: ArrayLike, c_w: ArrayLike
 def anchored_line_vi(K: ArrayLike, s_px: ArrayLike, e_px: ArrayLike, c_w: ArrayLike, scale: float,
                      sqrt_information: Optional[ArrayLike] = ...,
                      autodiff: bool = ...) -> CostFunction: ...
+def point_reprojection_vi_time_offset(K: ArrayLike, uv: ArrayLike, uv_velocity: ArrayLike,
+                                      sqrt_information: Optional[ArrayLike] = ...,
+                                      autodiff: bool = ...) -> CostFunction: ...
+def anchored_line_vi_time_offset(K: ArrayLike, s_px: ArrayLike, e_px: ArrayLike,
+                                 s_velocity: ArrayLike, e_velocity: ArrayLike, c_w: ArrayLike,
+                                 scale: float, sqrt_information: Optional[ArrayLike] = ...,
+                                 autodiff: bool = ...) -> CostFunction: ...
 def point_to_plane(p_s: ArrayLike, m_w: ArrayLike, q_w: ArrayLike, sigma: float = ...,
                    autodiff: bool = ...) -> CostFunction: ...
 def point_to_edge(p_s: ArrayLike, a_w: ArrayLike, b_w: ArrayLike, sigma: float = ...,

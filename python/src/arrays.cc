@@ -71,14 +71,42 @@ SE3d PoseFromMatrix(const Eigen::Matrix4d& m, const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+// [tx, ty, tz, qx, qy, qz, qw] (TUM's order), the quaternion of norm 1 within 1e-6.
+SE3d PoseFromTq(const Eigen::Matrix<double, 7, 1>& v, const std::string& name) {
+  const Eigen::Quaterniond q(v(6), v(3), v(4), v(5));
+  if (std::abs(q.norm() - 1.0) > 1e-6)
+    throw py::value_error(name + ": the quaternion (qx, qy, qz, qw) must have norm 1, has " +
+                          std::to_string(q.norm()));
+  return SE3d(q, v.head<3>());
+}
+
+bool IsTq(const py::handle& obj) {
+  const py::array a = py::array::ensure(obj);
+  return a && a.ndim() == 1 && a.shape(0) == 7;
+}
+
+}  // namespace
+
 SE3d Pose(const py::handle& obj, const char* name) {
+  if (IsTq(obj)) return PoseFromTq(Vec<7>(obj, name), name);
   return PoseFromMatrix(Mat<4, 4>(obj, name), name);
 }
 
 std::vector<SE3d> Poses(const py::handle& obj, const char* name) {
   const py::array a = AsRealArray(obj, name);
+  if (a.ndim() == 2 && a.shape(1) == 7) {  // rows tx ty tz qx qy qz qw
+    const Eigen::MatrixXd m = SmallMatrix(a, name, static_cast<int>(a.shape(0)), 7);
+    std::vector<SE3d> poses;
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      poses.push_back(
+          PoseFromTq(m.row(i).transpose(), std::string(name) + "[" + std::to_string(i) + "]"));
+    return poses;
+  }
   if (a.ndim() != 3 || a.shape(1) != 4 || a.shape(2) != 4)
-    throw py::value_error(std::string(name) + ": expected shape (N, 4, 4), got " + ShapeText(a));
+    throw py::value_error(std::string(name) + ": expected shape (N, 4, 4) or (N, 7), got " +
+                          ShapeText(a));
   const auto d = py::array_t<double, py::array::forcecast>::ensure(a);
   const auto u = d.unchecked<3>();
   std::vector<SE3d> poses;
@@ -120,6 +148,23 @@ py::array_t<double> ToVector(const Eigen::VectorXd& v) {
 }
 
 py::array_t<double> PoseMatrix(const SE3d& T) { return ToArray(T.Matrix()); }
+
+namespace {
+Eigen::Matrix<double, 1, 7> TqRow(const SE3d& T) {
+  const Eigen::Quaterniond& q = T.rotation();
+  Eigen::Matrix<double, 1, 7> row;
+  row << T.translation().transpose(), q.x(), q.y(), q.z(), q.w();
+  return row;
+}
+}  // namespace
+
+py::array_t<double> PoseTq(const SE3d& T) { return ToVector(TqRow(T).transpose()); }
+
+py::array_t<double> PosesTq(const std::vector<SE3d>& T) {
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(T.size()), 7);
+  for (std::size_t i = 0; i < T.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = TqRow(T[i]);
+  return ToArray(m);
+}
 
 py::array_t<double> PoseMatrices(const std::vector<SE3d>& T) {
   py::array_t<double> a({static_cast<py::ssize_t>(T.size()), py::ssize_t{4}, py::ssize_t{4}});

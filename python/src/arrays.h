@@ -30,9 +30,11 @@ Eigen::Matrix<double, R, C> Mat(const py::handle& obj, const char* name) {
   return SmallMatrix(obj, name, R, C);
 }
 
-// A 4x4 homogeneous rigid transform (rotation checked orthonormal to 1e-6, last row 0 0 0 1).
+// A 4x4 homogeneous rigid transform (rotation checked orthonormal to 1e-6, last row 0 0 0 1), or
+// (7,) [tx, ty, tz, qx, qy, qz, qw] (TUM's order, the quaternion of norm 1 within 1e-6): the
+// library's own numbers, exact where a rotation matrix is not (its quaternion rounds).
 SE3d Pose(const py::handle& obj, const char* name);
-// (N, 4, 4) or a list of 4x4: N >= 0 poses.
+// (N, 4, 4), a list of 4x4, or (N, 7) rows tx ty tz qx qy qz qw: N >= 0 poses.
 std::vector<SE3d> Poses(const py::handle& obj, const char* name);
 
 // Pinhole intrinsics from K = (fx, fy, cx, cy), fx, fy > 0.
@@ -43,6 +45,9 @@ py::array_t<double> ToArray(const Eigen::MatrixXd& m);
 py::array_t<double> ToVector(const Eigen::VectorXd& v);
 py::array_t<double> PoseMatrix(const SE3d& T);
 py::array_t<double> PoseMatrices(const std::vector<SE3d>& T);
+// (7,) / (N, 7) [tx, ty, tz, qx, qy, qz, qw]: the pose's own quaternion and translation.
+py::array_t<double> PoseTq(const SE3d& T);
+py::array_t<double> PosesTq(const std::vector<SE3d>& T);
 // An (N, 3) view of the points, which the array then owns (no copy).
 py::array_t<double> PointsArray(std::vector<Eigen::Vector3d>&& points);
 py::array_t<double> DoubleArray(std::vector<double>&& values);

@@ -11,6 +11,8 @@ void RegisterFactors(pybind11::module_& m);   // factors.cc
 void RegisterIo(pybind11::module_& m);        // io.cc
 void RegisterEval(pybind11::module_& m);      // eval.cc
 void RegisterLidar(pybind11::module_& m);     // lidar.cc
+void RegisterVio(pybind11::module_& m);       // vio.cc
+void RegisterVo(pybind11::module_& m);        // vo.cc
 
 }  // namespace python
 }  // namespace plucker

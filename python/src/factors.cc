@@ -14,6 +14,7 @@
 #include "plucker/factors/line_reprojection_factor.h"
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
+#include "plucker/factors/time_offset_factor.h"
 
 namespace plucker {
 namespace python {
@@ -92,6 +93,15 @@ void RegisterLineFactor(py::module_& m, const char* name, const char* doc) {
       py::arg("autodiff") = false, doc);
 }
 
+LineAnchor AnchorArg(const py::handle& c_w, double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw py::value_error("scale: must be positive and finite");
+  LineAnchor anchor;
+  anchor.c_w = Vec<3>(c_w, "c_w");
+  anchor.scale = scale;
+  return anchor;
+}
+
 template <typename F>
 void RegisterAnchoredFactor(py::module_& m, const char* name, const char* doc) {
   m.def(
@@ -101,11 +111,7 @@ void RegisterAnchoredFactor(py::module_& m, const char* name, const char* doc) {
         const PinholeIntrinsics k = Intrinsics(K);
         const Eigen::Vector2d a = Vec<2>(s, "s_px"), b = Vec<2>(e, "e_px");
         const Eigen::Matrix2d S = SqrtInformation(sqrt_information);
-        if (!(scale > 0.0) || !std::isfinite(scale))
-          throw py::value_error("scale: must be positive and finite");
-        LineAnchor anchor;
-        anchor.c_w = Vec<3>(c_w, "c_w");
-        anchor.scale = scale;
+        const LineAnchor anchor = AnchorArg(c_w, scale);
         return Wrap(
             autodiff ? F::CreateAutoDiff(k, a, b, S, anchor) : F::Create(k, a, b, S, anchor), name,
             autodiff);
@@ -129,6 +135,46 @@ void RegisterLidarFactor(py::module_& m, const char* name, const char* a_name, c
       },
       py::arg("p_s"), py::arg(a_name), py::arg(b_name), py::arg("sigma") = 1.0,
       py::arg("autodiff") = false, doc);
+}
+
+// The camera-IMU time-offset factors (factors/time_offset_factor.h): a td block (1,) before the
+// landmark, the features' image velocities (px/s) given.
+void RegisterTimeOffsetFactors(py::module_& m) {
+  using PointTd = PointReprojectionFactorVITimeOffset;
+  using LineTd = AnchoredLineFactorVITimeOffset;
+  m.def(
+      "point_reprojection_vi_time_offset",
+      [](const py::handle& K, const py::handle& uv, const py::handle& uv_velocity,
+         const py::object& sqrt_information, bool autodiff) {
+        const PinholeIntrinsics k = Intrinsics(K);
+        const Eigen::Vector2d p = Vec<2>(uv, "uv"), v = Vec<2>(uv_velocity, "uv_velocity");
+        const Eigen::Matrix2d S = SqrtInformation(sqrt_information);
+        return Wrap(autodiff ? PointTd::CreateAutoDiff(k, p, v, S) : PointTd::Create(k, p, v, S),
+                    "point_reprojection_vi_time_offset", autodiff);
+      },
+      py::arg("K"), py::arg("uv"), py::arg("uv_velocity"), py::arg("sqrt_information") = py::none(),
+      py::arg("autodiff") = false,
+      "Blocks (T_w_b, T_b_c, td (1,), p_w): point_reprojection_vi with the feature at uv - td v\n"
+      "(Kalibr's t_imu = t_cam + td; uv_velocity: the track's image velocity, px/s).");
+  m.def(
+      "anchored_line_vi_time_offset",
+      [](const py::handle& K, const py::handle& s, const py::handle& e, const py::handle& v_s,
+         const py::handle& v_e, const py::handle& c_w, double scale,
+         const py::object& sqrt_information, bool autodiff) {
+        const PinholeIntrinsics k = Intrinsics(K);
+        const Eigen::Vector2d a = Vec<2>(s, "s_px"), b = Vec<2>(e, "e_px");
+        const Eigen::Vector2d va = Vec<2>(v_s, "s_velocity"), vb = Vec<2>(v_e, "e_velocity");
+        const Eigen::Matrix2d S = SqrtInformation(sqrt_information);
+        const LineAnchor anchor = AnchorArg(c_w, scale);
+        return Wrap(autodiff ? LineTd::CreateAutoDiff(k, a, b, va, vb, S, anchor)
+                             : LineTd::Create(k, a, b, va, vb, S, anchor),
+                    "anchored_line_vi_time_offset", autodiff);
+      },
+      py::arg("K"), py::arg("s_px"), py::arg("e_px"), py::arg("s_velocity"), py::arg("e_velocity"),
+      py::arg("c_w"), py::arg("scale"), py::arg("sqrt_information") = py::none(),
+      py::arg("autodiff") = false,
+      "Blocks (T_w_b, T_b_c, td (1,), anchored line): anchored_line_vi with the endpoints moved\n"
+      "by -td times their image velocities (px/s).");
 }
 
 template <typename M>
@@ -196,6 +242,7 @@ void RegisterFactors(py::module_& parent) {
   RegisterLidarFactor<PointToEdgeFactor>(m, "point_to_edge", "a_w", "b_w",
                                          "Block (T_w_s): offset (3,) of the scan point p_s from "
                                          "the line through a_w and b_w / sigma.");
+  RegisterTimeOffsetFactors(m);
   RegisterManifold<PoseManifold>(m, "pose", 7, 6);
   RegisterManifold<LineManifold>(m, "line", 6, 4);
 }

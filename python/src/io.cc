@@ -6,7 +6,9 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "pipeline_inputs.h"
 #include "plucker/io/euroc_dataset.h"
+#include "plucker/io/image_folder.h"
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
 #include "plucker/io/trajectory_io.h"
@@ -61,6 +63,7 @@ py::dict EurocDict(io::EurocDataset&& e) {
   camera["width"] = c.width;
   camera["height"] = c.height;
   camera["T_b_c"] = PoseMatrix(e.cam0.T_b_c);
+  camera["T_b_c_tq"] = PoseTq(e.cam0.T_b_c);  // exact (the 4x4's quaternion rounds)
   camera["rate_hz"] = e.cam0.rate_hz;
   Eigen::MatrixXd imu(static_cast<Eigen::Index>(e.imu.imu.size()), 7);
   for (std::size_t i = 0; i < e.imu.imu.size(); ++i) {
@@ -84,6 +87,7 @@ py::dict EurocDict(io::EurocDataset&& e) {
   d["frame_times"] = DoubleArray(std::move(frame_times));
   d["images"] = images;
   d["imu"] = ToArray(imu);
+  d["imu_model"] = ImuModelDict(e.imu.imu_model);
   d["origin_ns"] = e.imu.origin_ns;
   d["ground_truth_times"] = DoubleArray(std::move(gt_times));
   d["ground_truth_T_w_b"] = PoseMatrices(gt_poses);
@@ -148,18 +152,39 @@ void RegisterIo(py::module_& m) {
         "shortest exact form.");
   m.def(
       "write_tum",
-      [](const std::string& path, const py::handle& times, const py::handle& poses) {
+      [](const std::string& path, const py::handle& times, const py::handle& poses,
+         const py::object& origin_ns, const std::vector<std::string>& comments) {
         const std::vector<SE3d> T = Poses(poses, "poses");
         const Eigen::MatrixXd t = SmallMatrix(times, "times", static_cast<int>(T.size()), 0);
-        io::WriteTumTrajectory(path, std::vector<double>(t.data(), t.data() + t.size()), T);
+        const std::vector<double> stamps(t.data(), t.data() + t.size());
+        if (origin_ns.is_none())
+          io::WriteTumTrajectory(path, stamps, T, comments);
+        else
+          io::WriteTumTrajectoryOnClock(path, origin_ns.cast<std::int64_t>(), stamps, T, comments);
       },
-      py::arg("path"), py::arg("times"), py::arg("poses"),
-      "Writes a TUM trajectory (t tx ty tz qx qy qz qw) that evo_ape / evo_rpe read as it is.");
+      py::arg("path"), py::arg("times"), py::arg("poses"), py::arg("origin_ns") = py::none(),
+      py::arg("comments") = std::vector<std::string>{},
+      "Writes a TUM trajectory (t tx ty tz qx qy qz qw) that evo_ape / evo_rpe read as it is.\n"
+      "origin_ns: the recording's clock (read_euroc's origin_ns; times are s since it), written\n"
+      "as the dataset's own stamps (as plucker vio writes EuRoC runs); comments: '# ' lines.");
+  m.def(
+      "read_gray_image",
+      [](const std::string& path) {
+        auto* image = new cv::Mat(io::ReadGrayImage(path));
+        py::capsule owner(image, [](void* p) { delete static_cast<cv::Mat*>(p); });
+        return py::array_t<std::uint8_t>(
+            {static_cast<py::ssize_t>(image->rows), static_cast<py::ssize_t>(image->cols)},
+            {static_cast<py::ssize_t>(image->step[0]), py::ssize_t{1}}, image->data, owner);
+      },
+      py::arg("path"),
+      "An image file as 8-bit grayscale (H, W) uint8 (colour converted), as plucker vo/vio read\n"
+      "them. Raises IoError for a missing or unreadable file.");
   m.def(
       "read_euroc", [](const std::string& dir) { return EurocDict(io::ReadEurocDataset(dir)); },
       py::arg("dir"),
       "A EuRoC ASL folder (with mav0/ or mav0 itself): cam0 calibration, frame times and image\n"
-      "paths, the IMU log (N, 7) = (t, gyro xyz, accel xyz), ground truth when present, and the\n"
+      "paths, the IMU log (N, 7) = (t, gyro xyz, accel xyz) and imu_model, ground truth when "
+      "present, and the\n"
       "skipped frames and warnings. Times are s since the first IMU sample (origin_ns).");
 }
 

@@ -5,13 +5,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <mutex>
 
 #include "arrays.h"
 #include "bindings.h"
 #include "lidar_options_table.h"
+#include "options.h"
 #include "plucker/lidar/odometry.h"
 #include "plucker/sensor/lidar_model.h"
 
@@ -22,21 +22,6 @@ namespace {
 
 using app::LidarConfig;
 using app::LidarOption;
-
-// A Python scalar as the YAML text the options table parses (numbers in shortest exact form).
-std::string ScalarText(const py::handle& v, const std::string& key) {
-  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::int_>(v)) return std::string(py::str(v));
-  if (py::isinstance<py::float_>(v)) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v.cast<double>());
-    return std::string(buf, r.ptr);
-  }
-  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  throw py::type_error("LidarOdometry: option '" + key +
-                       "': expected a bool, number or string, got " +
-                       std::string(py::str(v.get_type().attr("__name__"))));
-}
 
 // Sets one option (a dotted key, or a group given as a dict) through the table.
 void SetOption(const std::string& key, const py::handle& value, LidarConfig* config) {
@@ -52,7 +37,7 @@ void SetOption(const std::string& key, const py::handle& value, LidarConfig* con
     throw py::value_error("LidarOdometry: unknown option '" + key +
                           "' (plucker.lidar_options() lists every key with its default)");
   try {
-    it->set(YAML::Node(ScalarText(value, key)), config);
+    it->set(YAML::Node(ScalarText(value, key, "LidarOdometry")), config);
   } catch (const std::exception& e) {
     throw py::value_error("LidarOdometry: option '" + key + "': " + e.what());
   }

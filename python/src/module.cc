@@ -13,4 +13,6 @@ PYBIND11_MODULE(_plucker, m) {
   plucker::python::RegisterIo(m);
   plucker::python::RegisterEval(m);
   plucker::python::RegisterLidar(m);
+  plucker::python::RegisterVio(m);
+  plucker::python::RegisterVo(m);
 }

@@ -1,5 +1,6 @@
 // _plucker_verify: the C++ Jacobian check registry (`plucker check-jacobians`) from Python, for
 // the tests only (built in the build tree, never installed: verify is test scaffolding).
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -16,18 +17,36 @@ PYBIND11_MODULE(_plucker_verify, m) {
   });
   m.def(
       "run_check",
-      [](const std::string& name, int samples, std::uint64_t seed) {
+      [](const std::string& name, int samples, std::uint64_t seed, bool record) {
         for (const auto& c : plucker::verify::AllJacobianChecks()) {
           if (c.name != name) continue;
           plucker::verify::JacobianCheckOptions o;
           o.samples = samples;
           o.seed = seed;
+          std::vector<plucker::verify::FactorSampleRecord> records;
+          if (record)
+            o.factor_sample_observer = [&](const plucker::verify::FactorSampleRecord& r) {
+              records.push_back(r);
+            };
           plucker::verify::JacobianCheckStats s;
           {
             py::gil_scoped_release release;
             s = c.run(o);
           }
           py::dict d;
+          py::list recs;
+          for (const plucker::verify::FactorSampleRecord& r : records) {
+            py::dict e, inputs;
+            for (const auto& [key, value] : r.inputs) inputs[key.c_str()] = value;
+            e["what"] = r.what;
+            e["inputs"] = inputs;
+            e["blocks"] = r.x;
+            e["evaluated"] = r.evaluated;
+            e["residual"] = r.residual;
+            e["jacobians"] = r.jacobians;
+            recs.append(e);
+          }
+          d["records"] = recs;
           d["samples"] = s.samples;
           d["skipped"] = s.skipped;
           d["worst_error_vs_autodiff"] = s.worst_autodiff;
@@ -40,5 +59,5 @@ PYBIND11_MODULE(_plucker_verify, m) {
         }
         throw py::value_error("no Jacobian check named '" + name + "'");
       },
-      py::arg("name"), py::arg("samples") = 100, py::arg("seed") = 42);
+      py::arg("name"), py::arg("samples") = 100, py::arg("seed") = 42, py::arg("record") = false);
 }

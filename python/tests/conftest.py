@@ -1,6 +1,7 @@
 """Shared fixtures: the real-data folder and the plucker program (tests skip without them)."""
 import os
 import pathlib
+import threading
 
 import numpy as np
 import pytest
@@ -39,3 +40,22 @@ def random_pose(rng: np.random.Generator, translation: float = 2.0) -> np.ndarra
     import plucker
     return plucker.se3_exp(np.concatenate([rng.uniform(-np.pi / 2, np.pi / 2, 3),
                                            rng.uniform(-translation, translation, 3)]))
+
+
+def run_in_two_threads(run):
+    """run() in two threads at once; their results, after re-raising the first error."""
+    results, errors = {}, []
+
+    def body(key):
+        try:
+            results[key] = run()
+        except Exception as e:  # reported by the calling thread
+            errors.append(e)
+
+    threads = [threading.Thread(target=body, args=(k,)) for k in range(2)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    assert not errors, errors
+    return [results[0], results[1]]

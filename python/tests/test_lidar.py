@@ -1,12 +1,12 @@
 """LidarOdometry from Python: the same poses as `plucker lidar --frame lidar` (byte-identical
 text), two odometries in two threads, the options of `plucker config lidar`, and bad input."""
 import subprocess
-import threading
 
 import numpy as np
 import pytest
 
 import plucker
+from conftest import run_in_two_threads
 
 
 def scans(sequence, count=None):
@@ -33,25 +33,15 @@ def test_two_odometries_in_two_threads_give_the_sequential_poses(kitti_sequence)
     sequential = plucker.LidarOdometry()
     for points, t in data:
         sequential.register(points, t)
-    results, errors = {}, []
 
-    def run(key):
-        try:
-            o = plucker.LidarOdometry()
-            for points, t in data:
-                o.register(points, t)
-            results[key] = o.poses
-        except Exception as e:  # reported by the main thread
-            errors.append(e)
+    def run():
+        o = plucker.LidarOdometry()
+        for points, t in data:
+            o.register(points, t)
+        return o.poses
 
-    threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
-    for th in threads:
-        th.start()
-    for th in threads:
-        th.join()
-    assert not errors, errors
-    for k in range(2):
-        assert np.array_equal(results[k], sequential.poses)
+    for poses in run_in_two_threads(run):
+        assert np.array_equal(poses, sequential.poses)
 
 
 def test_options_are_the_command_lines(plucker_cli):

@@ -33,6 +33,24 @@ def main() -> None:
     rmse: float = result["translation_m"]["rmse"]
     print(w, T_ac, J_ab, J_bc, L_a, J_T, J_L, L2, J, l, J_l, r, jacobians[0], rmse,
           plucker.lidar_options()["features.min_range"], plucker.format_kitti_poses(odometry.poses))
+    euroc = plucker.read_euroc("euroc")
+    vio = plucker.VisualInertialOdometry(euroc["camera"], euroc["camera"]["T_b_c"],
+                                         euroc["imu_model"], window=8, use_lines=False)
+    vio.add_imu(euroc["imu"])
+    vio.add_imu(10.0, [0.0, 0.0, 0.0], [0.0, 0.0, 9.81])
+    image: npt.NDArray[np.uint8] = plucker.read_gray_image(euroc["images"][0])
+    frame: Dict[str, Any] = vio.add_image(float(euroc["frame_times"][0]), image)
+    vio.finish()
+    refined = vio.refined_trajectory()
+    plucker.write_tum("vio.tum", refined["times"], refined["T_w_b"], origin_ns=euroc["origin_ns"],
+                      comments=["body frame"])
+    print(frame["status"], vio.initialized, vio.initialization, vio.time_offset, vio.T_b_c)
+    vo = plucker.MonocularOdometry([700.0, 700.0, 600.0, 180.0], defaults="features",
+                                   window={"size": 8}, pixel_sigma=1.0)
+    vo.add_frame(0.0, np.zeros((0, 3)), None)
+    vo.add_image(0.1, image)
+    vo.finish()
+    print(vo.trajectory()["T_w_c"].shape, vo.summary["keyframes"])
     try:
         plucker.read_pcd("missing.pcd")
     except plucker.IoError as e:

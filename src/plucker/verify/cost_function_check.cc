@@ -43,7 +43,8 @@ bool PlusAll(const std::vector<const ceres::Manifold*>& manifolds,
 }
 
 // One sample of RunCostFunctionCheck.
-void AddCostFunctionSample(const CostFunctionSample& sample, JacobianCheckStats* stats) {
+void AddCostFunctionSample(const CostFunctionSample& sample, const JacobianCheckOptions& o,
+                           JacobianCheckStats* stats) {
   const std::vector<Eigen::VectorXd>& x = sample.x;
   const std::vector<const ceres::Manifold*>& manifolds = sample.manifolds;
   const std::string& what = sample.what;
@@ -52,6 +53,9 @@ void AddCostFunctionSample(const CostFunctionSample& sample, JacobianCheckStats*
   std::vector<Eigen::MatrixXd> J_an, J_ad;
   const bool ok = EvaluateCostFunction(*sample.analytic, x, &r_an, &J_an);
   const bool ok_ad = EvaluateCostFunction(*sample.autodiff, x, &r_ad, &J_ad);
+  if (o.factor_sample_observer)
+    o.factor_sample_observer(
+        {what, sample.inputs, x, ok, r_an, ok ? J_an : std::vector<Eigen::MatrixXd>{}});
   if (!ok || !ok_ad || sample.expect_refusal) {
     if (!ok && !ok_ad && sample.expect_refusal) {
       ++stats->skipped;  // the expected guard, refused by both
@@ -159,7 +163,7 @@ JacobianCheckStats RunCostFunctionCheck(const std::string& name, std::uint64_t s
   stats.name = name;
   Rng rng(o.seed + seed_offset);
   for (int i = 0; stats.samples < o.samples && stats.skipped <= o.samples; ++i) {
-    AddCostFunctionSample(make(rng, i), &stats);
+    AddCostFunctionSample(make(rng, i), o, &stats);
   }
   return stats;
 }

@@ -36,6 +36,8 @@ struct CostFunctionSample {
   double residual_scale = 1.0;
   std::string what;             // describes the configuration in the failure message
   bool expect_refusal = false;  // a guarded configuration: both versions must refuse it
+  // What the factors were made from, for JacobianCheckOptions::factor_sample_observer.
+  std::vector<std::pair<std::string, Eigen::VectorXd>> inputs;
 };
 
 // Residual and ambient Jacobians (rows = residuals, cols = block size) of f at the blocks x.

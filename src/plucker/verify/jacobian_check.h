@@ -15,6 +15,7 @@
 #include <ostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plucker {
@@ -75,9 +76,24 @@ struct JacobianCheckStats {
            const Eigen::MatrixXd& numeric, const std::string& what = "");
 };
 
+// One sample of a factor check as evaluated: what the factor was made from (the measurement and
+// constants, named as the Python factories' arguments, python/src/factors.cc), its parameter
+// blocks and the analytic residual and ambient Jacobians (evaluated false: the factor refused).
+struct FactorSampleRecord {
+  std::string what;
+  std::vector<std::pair<std::string, Eigen::VectorXd>> inputs;
+  std::vector<Eigen::VectorXd> x;
+  bool evaluated = false;
+  Eigen::VectorXd residual;
+  std::vector<Eigen::MatrixXd> jacobians;
+};
+
 struct JacobianCheckOptions {
   int samples = 1000;
   std::uint64_t seed = 42;
+  // Called with every sample a factor check evaluates (the Python bindings' test rebuilds each
+  // factor from it and compares); unset: nothing.
+  std::function<void(const FactorSampleRecord&)> factor_sample_observer;
 };
 
 struct NamedJacobianCheck {

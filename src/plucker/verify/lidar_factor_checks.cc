@@ -96,6 +96,10 @@ NamedJacobianCheck LidarFactorCheck(const std::string& name, std::uint64_t seed,
               c.x = {Eigen::VectorXd(7)};
               s.T_w_s.ToParameters(c.x[0].data());
               c.manifolds = {&pose};
+              c.inputs = {{"p_s", s.p_s},
+                          {plane ? "m_w" : "a_w", f1},
+                          {plane ? "q_w" : "b_w", f2},
+                          {"sigma", Eigen::VectorXd::Constant(1, s.sigma)}};
               return c;
             });
           }};

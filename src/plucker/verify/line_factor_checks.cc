@@ -236,6 +236,15 @@ NamedJacobianCheck LineFactorCheck(const std::string& name, std::uint64_t seed,
               c.residual_scale = std::max(1.0, distance);
               c.what = "sample " + std::to_string(i);
               c.expect_refusal = smp.expect_guard;
+              const Eigen::Matrix2d& S = smp.sqrt_info;
+              c.inputs = {{"K", Eigen::Vector4d(smp.K.fx, smp.K.fy, smp.K.cx, smp.K.cy)},
+                          {"s_px", smp.s_px},
+                          {"e_px", smp.e_px},
+                          {"sqrt_information", Eigen::Vector4d(S(0, 0), S(0, 1), S(1, 0), S(1, 1))},
+                          {"c_w", smp.anchor.c_w},
+                          {"scale", Eigen::VectorXd::Constant(1, smp.anchor.scale)},
+                          {"s_velocity", smp.v_s},
+                          {"e_velocity", smp.v_e}};
               return c;
             });
           }};

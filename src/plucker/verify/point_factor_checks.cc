@@ -66,6 +66,14 @@ PointSample MakeSample(Rng& rng, int i) {
   return s;
 }
 
+// The sample's measurement, named as the Python factories' arguments.
+std::vector<std::pair<std::string, Eigen::VectorXd>> Inputs(const PointSample& s) {
+  const Eigen::Matrix2d& S = s.sqrt_information;
+  return {{"K", Eigen::Vector4d(s.K.fx, s.K.fy, s.K.cx, s.K.cy)},
+          {"uv", s.uv},
+          {"sqrt_information", Eigen::Vector4d(S(0, 0), S(0, 1), S(1, 0), S(1, 1))}};
+}
+
 std::string Describe(int i) {
   static const char* kNames[] = {"identity poses",   "rotation pi",       "rotation pi - 1e-7",
                                  "point at 100 m",   "depth 5 cm",        "on the optical axis",
@@ -95,6 +103,7 @@ NamedJacobianCheck PointFactorCheck(const std::string& name, std::uint64_t seed,
               c.x.push_back(s.p_w);
               c.manifolds.push_back(nullptr);
               c.what = Describe(i);
+              c.inputs = Inputs(s);
               return c;
             });
           }};
@@ -131,6 +140,8 @@ NamedJacobianCheck PointTimeOffsetCheck(const std::string& name, std::uint64_t s
               c.x.push_back(Eigen::VectorXd::Constant(1, td));
               c.x.push_back(s.p_w);
               c.manifolds.insert(c.manifolds.end(), 2, nullptr);
+              c.inputs = Inputs(s);
+              c.inputs.emplace_back("uv_velocity", v);
               c.what = Describe(i) + (i == 0 || i == 8 ? ", zero velocity" : "") +
                        (i == 1 || i == 9 ? ", td = 0" : "");
               return c;
