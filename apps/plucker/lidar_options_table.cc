@@ -13,9 +13,9 @@ namespace plucker {
 namespace app {
 namespace {
 
+using factors::RobustLoss;
 using lidar::DeskewMode;
 using lidar::RingSource;
-using lidar::RobustLoss;
 
 // Shortest text that reads back as the same double ("0.1", not "0.10000000000000001"); integral
 // values keep a ".0" so that the file shows they are real numbers.

@@ -34,7 +34,7 @@ const std::vector<std::pair<std::string, ConfigSetter>>& ConfigFields() {
       {"keyframe_parallax_px", Field(&Options::keyframe_parallax_px)},
       {"min_tracked", Field(&Options::min_tracked)},
       {"min_tracked_ratio", Field(&Options::min_tracked_ratio)},
-      {"max_keyframe_interval_s", Field(&Options::max_keyframe_interval_s)},
+      {"max_keyframe_interval_s", Field(&Options::max_imu_factor_span_s)},
       {"gyro_bias_prior_sigma", Field(&Options::gyro_bias_prior_sigma)},
       {"accel_bias_prior_sigma", Field(&Options::accel_bias_prior_sigma)},
       {"velocity_prior_sigma", Field(&Options::velocity_prior_sigma)},

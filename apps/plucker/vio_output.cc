@@ -19,7 +19,7 @@ const char* kStageNames[window::kNumWindowStages] = {"tracking", "triangulation"
 
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json StateJson(const window::InertialState& s) {
+nlohmann::json StateJson(const sensor::BodyState& s) {
   return {{"v_w", Vec(s.v_w)}, {"gyro_bias", Vec(s.bias.gyro)}, {"accel_bias", Vec(s.bias.accel)}};
 }
 
@@ -34,7 +34,7 @@ double AngleDeg(const SE3d& a, const SE3d& b) {
   return LogSO3<double>(a.rotation().conjugate() * b.rotation()).norm() * 180.0 / M_PI;
 }
 
-nlohmann::json WindowJson(const window::FrameResult& r) {
+nlohmann::json WindowJson(const window::WindowFrameResult& r) {
   return {{"keyframe", r.keyframe},
           {"tracked_points", r.tracked_points},
           {"tracked_lines", r.tracked_lines},
@@ -106,7 +106,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
                rec.status == odometry::VioStatus::kSkippedNonFinite;
     f["status"] = odometry::ToString(rec);
     if (!rec.window) continue;
-    const window::FrameResult& w = *rec.window;
+    const window::WindowFrameResult& w = *rec.window;
     const nlohmann::json stats = WindowJson(w);
     for (auto& kv : stats.items()) f[kv.key()] = kv.value();
     keyframes += w.keyframe;

@@ -19,7 +19,7 @@ const char* const kOnlineTrajectoryNote =
 
 std::string VisualInertialOdometryOptions::Problem() const {
   if (window < 2 || iterations < 1 || init_min_keyframes < 4 ||
-      init_max_keyframes < init_min_keyframes || !(max_keyframe_interval_s > 0.0) ||
+      init_max_keyframes < init_min_keyframes || !(max_imu_factor_span_s > 0.0) ||
       !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
       !(init_gyro_bias_bound >= 0.0) || !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
@@ -103,7 +103,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   inertial.accel_bias_prior_sigma = c.accel_bias_prior_sigma;
   inertial.velocity_prior_sigma = c.velocity_prior_sigma;
   inertial.tracking_velocity_sigma = c.tracking_velocity_sigma;
-  inertial.max_keyframe_interval_s = c.max_keyframe_interval_s;
+  inertial.max_imu_factor_span_s = c.max_imu_factor_span_s;
   inertial.estimate_extrinsic = c.estimate_extrinsic;
   inertial.extrinsic_rotation_sigma = c.extrinsic_rotation_sigma;
   inertial.extrinsic_translation_sigma = c.extrinsic_translation_sigma;
@@ -176,7 +176,7 @@ VioFrameRecord VisualInertialOdometry::Impl::Track(int index, const window::Fram
   rec.frame = index;
   rec.time = frame.time;
   rec.kind = VioFrameKind::kWindow;
-  window::FrameResult r;
+  window::WindowFrameResult r;
   try {
     r = estimator->AddFrame(frame, observer);
   } catch (const std::invalid_argument& e) {  // the IMU does not cover the frame
@@ -210,7 +210,7 @@ void VisualInertialOdometry::Impl::StartWindow() {
   window::InitializationResult init;
   if (start.method == "dynamic") {
     std::vector<window::FrameInput> kf_frames;
-    std::vector<window::InertialState> states;
+    std::vector<sensor::BodyState> states;
     const int first = std::max(0, static_cast<int>(start.candidates.size()) + 1 - o.window);
     for (int k = first; k < static_cast<int>(start.candidates.size()); ++k) {
       start_keyframes.push_back(start.candidates[k]);
@@ -253,7 +253,7 @@ void VisualInertialOdometry::Impl::StartWindow() {
     if (f < static_cast<int>(start.T_w_b.size()) && start.T_w_b[f]) rec.T_w_b = start.T_w_b[f];
     rec.kind = rec.T_w_b ? VioFrameKind::kInitialization : VioFrameKind::kBeforeInitialization;
   }
-  const std::vector<window::InertialState> first_states = estimator->KeyframeStates();
+  const std::vector<sensor::BodyState> first_states = estimator->KeyframeStates();
   if (first_states.size() != start_keyframes.size() || start_keyframes.front() != start.first)
     start_keyframes = {start.first, start.second};
   for (std::size_t k = 0; k < start_keyframes.size(); ++k) {
@@ -321,7 +321,7 @@ VioFrameResult VisualInertialOdometry::Impl::Initialize(bool end,
     result.v_w = last.window->state.v_w;
     result.bias = last.window->state.bias;
   } else {
-    const std::vector<window::InertialState> states = estimator->KeyframeStates();
+    const std::vector<sensor::BodyState> states = estimator->KeyframeStates();
     result.v_w = states.back().v_w;
     result.bias = states.back().bias;
   }
