@@ -23,11 +23,13 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
       !(init_gyro_bias_bound >= 0.0) || !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
-      !(point_min_distance_px > 0.0) || line_max_segments < 0 ||
-      !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 2) {
-    return "an option is out of range (point_stride >= 1, window >= 2, "
-           "init_min_keyframes >= 4, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
-           "0 < line_detection_scale <= 1, line_flow_samples >= 2)";
+      !(point_min_distance_px >= 0.0) || line_max_segments < 0 ||
+      !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 0 ||
+      line_flow_samples > 1000) {
+    return "an option is out of range (window >= 2, init_min_keyframes >= 4, init_max_keyframes "
+           ">= init_min_keyframes, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
+           "point_min_distance_px >= 0, 0 < line_detection_scale <= 1, line_flow_samples in "
+           "[0, 1000])";
   }
   if (!(extrinsic_rotation_sigma > 0.0) || !(extrinsic_translation_sigma > 0.0) ||
       !(extrinsic_min_rotation_deg >= 0.0)) {
