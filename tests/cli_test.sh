@@ -181,8 +181,26 @@ printf 'lines.detection_scale: 2\n' > "$T/vo_range.yaml"
 expect vo-config-out-of-range nonzero "key 'lines.detection_scale': value 2 out of range" -- \
   "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_range.yaml"
 printf 'window: [1, 2\n' > "$T/vo_broken.yaml"
-expect vo-config-not-yaml nonzero "vo_broken.yaml: not valid YAML" -- \
+expect vo-config-not-yaml nonzero "vo_broken.yaml: invalid YAML" -- \
   "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_broken.yaml"
+printf 'window:\n  use_lines: false\n' > "$T/vo_renamed.yaml"
+expect vo-config-renamed-key nonzero "vo_renamed.yaml: key 'window.use_lines' was renamed to 'use_lines'" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_renamed.yaml"
+# A flag sets its key through the same checks, after the file (the flag wins).
+expect vo-flag-out-of-range nonzero "\-\-window: key 'window.size': value 1 out of range \[2, 1000\]" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --window 1
+expect vo-flag-overrides-key 0 "10 frames" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_x.txt" --config "$T/vo_ok.yaml" --window 6
+# plucker config vo|vio|lidar: the defaults with their ranges, read back unchanged.
+for c in lidar vo vio; do
+  expect config-$c 0 "out of range" -- "$PLUCKER" config $c
+  expect config-$c-markdown 0 "^\| key \| type \| default \| range \| unit \| meaning \|" -- \
+    "$PLUCKER" config $c --markdown
+done
+"$PLUCKER" config vo > "$T/vo_defaults.yaml"
+expect vo-config-defaults-file 0 "10 frames" -- bash -c "'$PLUCKER' vo --features '$T/cam' \
+  --out '$T/vo_d.txt' --config '$T/vo_defaults.yaml' && '$PLUCKER' vo --features '$T/cam' \
+  --out '$T/vo_d0.txt' --quiet && cmp '$T/vo_d.txt' '$T/vo_d0.txt'"
 # The poses-only prior with scarce points and no lines (regression: a marginalization whose
 # leaving landmarks were all seen by k0 alone left no block for a prior and crashed).
 expect sim-camera-room1 0 "" -- \
@@ -462,43 +480,57 @@ expect vio-imu-gap 0 "skipped .*frames.txt frame 11: no IMU coverage" -- \
   --point-stride 2
 expect vio-imu-gap-rows 0 "^37$" -- bash -c "grep -vc '^#' '$T/vgap.tum'"
 expect vio-imu-gap-json 0 "frame 12: no IMU coverage" -- cat "$T/vgap.json"
-printf 'window: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
-expect vio-bad-config nonzero "vio_bad.yaml: unknown option 'windw'" -- \
+printf 'window.size: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
+expect vio-bad-config nonzero "vio_bad.yaml: unknown key 'windw'" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_bad.yaml"
-printf 'line_detection_scale: 2\n' > "$T/vio_range.yaml"
-expect vio-config-range nonzero "vio_range.yaml: an option is out of range" -- \
+printf 'window: 8\n' > "$T/vio_renamed.yaml"
+expect vio-config-renamed-key nonzero "vio_renamed.yaml: key 'window' was renamed to 'window.size'" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_renamed.yaml"
+printf 'window:\n  size: eight\n' > "$T/vio_type.yaml"
+expect vio-config-type nonzero "vio_type.yaml: key 'window.size': expected an integer, got 'eight'" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_type.yaml"
+printf 'window: [1, 2\n' > "$T/vio_broken.yaml"
+expect vio-config-not-yaml nonzero "vio_broken.yaml: invalid YAML" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_broken.yaml"
+printf 'lines.detection_scale: 2\n' > "$T/vio_range.yaml"
+expect vio-config-range nonzero "vio_range.yaml: key 'lines.detection_scale': value 2 out of range \(0, 1\]" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range.yaml"
-printf 'time_offset_prior_sigma_s: 0\n' > "$T/vio_range_td.yaml"
-expect vio-config-range-time-offset nonzero "vio_range_td.yaml: .*time_offset_prior_sigma_s > 0" -- \
+printf 'init:\n  min_keyframes: 12\n  max_keyframes: 10\n' > "$T/vio_range_init.yaml"
+expect vio-config-range-across-keys nonzero "vio_range_init.yaml: key 'init.max_keyframes' \(10\) must be >= init.min_keyframes" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_init.yaml"
+expect vio-flag-out-of-range nonzero "\-\-point-stride: key 'input.point_stride': value 0 out of range >= 1" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --point-stride 0
+printf 'time_offset:\n  prior_sigma_s: 0\n' > "$T/vio_range_td.yaml"
+expect vio-config-range-time-offset nonzero "vio_range_td.yaml: key 'time_offset.prior_sigma_s': value 0 out of range > 0" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_td.yaml"
 expect vio-time-offset-json 0 "" -- bash -c "'$PLUCKER' vio --features '$T/vcam' --out '$T/vio_td.tum' \
   --json '$T/vio_td.json' --no-lines --point-stride 2 --estimate-time-offset --quiet && \
   grep -q '\"camera_imu_time_offset_s\"' '$T/vio_td.json'"
-printf 'init_gyro_bias_bound: -1\n' > "$T/vio_range_gyro.yaml"
-expect vio-config-range-gyro nonzero "vio_range_gyro.yaml: an option is out of range" -- \
+printf 'init.gyro_bias_bound: -1\n' > "$T/vio_range_gyro.yaml"
+expect vio-config-range-gyro nonzero "vio_range_gyro.yaml: key 'init.gyro_bias_bound': value -1 out of range >= 0" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_gyro.yaml"
-printf 'tracking_velocity_sigma: -0.01\n' > "$T/vio_range_track.yaml"
-expect vio-config-range-tracking nonzero "vio_range_track.yaml: an option is out of range" -- \
+printf 'inertial:\n  tracking_velocity_sigma: -0.01\n' > "$T/vio_range_track.yaml"
+expect vio-config-range-tracking nonzero "vio_range_track.yaml: key 'inertial.tracking_velocity_sigma': value -0.01 out of range" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_range_track.yaml"
 # Vision-only per-frame tracking (the IMU prediction not fused; docs/vio.md).
-printf 'tracking_velocity_sigma: 0\n' > "$T/vio_track0.yaml"
+printf 'inertial.tracking_velocity_sigma: 0\n' > "$T/vio_track0.yaml"
 expect vio-vision-only-tracking 0 "40 frames, dynamic initialisation" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_t0.tum" --no-lines --point-stride 2 \
   --config "$T/vio_track0.yaml"
 # The prior on the landmarks (the poses-only prior is the default) still runs.
-printf 'prior_on_poses_only: false\n' > "$T/vio_full.yaml"
+printf 'window.prior_on_poses_only: false\n' > "$T/vio_full.yaml"
 expect vio-landmark-prior 0 "40 frames, dynamic initialisation" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_full.tum" --no-lines --point-stride 2 \
   --config "$T/vio_full.yaml"
 # Online extrinsic estimation from a T_b_c given 2 deg and 3 cm off (docs/vio.md).
-printf 'T_b_c: [0.06, -0.04, 0.03, 0.497015113, -0.491197644, 0.497015113, -0.51446752]\n' \
+printf 'extrinsic.T_b_c: [0.06, -0.04, 0.03, 0.497015113, -0.491197644, 0.497015113, -0.51446752]\n' \
   > "$T/vio_tbc.yaml"
 expect vio-estimate-extrinsic 0 "extrinsic estimated: T_b_c moved" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_ext.tum" --json "$T/vio_ext.json" \
   --no-lines --point-stride 2 --config "$T/vio_tbc.yaml" --estimate-extrinsic
 expect vio-estimate-extrinsic-json 0 '"rotation_change_deg"' -- cat "$T/vio_ext.json"
-printf 'T_b_c: [0, 0, 0, 0, 0, 0]\n' > "$T/vio_tbc_bad.yaml"
-expect vio-bad-extrinsic nonzero "vio_tbc_bad.yaml: T_b_c must be 7 finite numbers" -- \
+printf 'extrinsic:\n  T_b_c: [0, 0, 0, 0, 0, 0]\n' > "$T/vio_tbc_bad.yaml"
+expect vio-bad-extrinsic nonzero "vio_tbc_bad.yaml: key 'extrinsic.T_b_c': expected 7 finite numbers" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_tbc_bad.yaml"
 expect vio-no-source nonzero "give --features DIR, --euroc DIR or --bag FILE" -- "$PLUCKER" vio --out "$T/x.tum"
 expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \

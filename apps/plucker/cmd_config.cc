@@ -1,10 +1,9 @@
-// plucker config lidar [--markdown]: the options of `plucker lidar` from their one table
-// (lidar_options_table.h): the defaults file config/lidar_default.yaml, or the Markdown table of
-// docs/lidar-odometry.md. scripts/update_lidar_options.sh rewrites both from this output.
-#include <iostream>
-#include <memory>
-
+// plucker config lidar|vo|vio [--markdown]: the options of a command from its one table
+// (options_table.h): the defaults file config/<command>_default.yaml, or the Markdown table of
+// its docs page. scripts/update_options.sh rewrites both from this output. `config vo` and
+// `config vio` are registered by the vision module (cmd_config_vision.cc).
 #include "commands.h"
+#include "config_command.h"
 #include "lidar_options_table.h"
 
 namespace plucker {
@@ -13,15 +12,10 @@ namespace app {
 void RegisterConfig(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand("config", "Print the default configuration of a command");
   cmd->require_subcommand(1);
-  auto markdown = std::make_shared<bool>(false);
-  CLI::App* lidar = cmd->add_subcommand(
-      "lidar", "Every `plucker lidar --config` option with its default, as YAML");
-  lidar->add_flag("--markdown", *markdown,
-                  "The options as the Markdown table of docs/lidar-odometry.md instead");
-  lidar->callback([markdown, exit_code]() {
-    std::cout << (*markdown ? LidarOptionsMarkdown() : LidarConfigYaml(LidarConfig()));
-    *exit_code = std::cout ? 0 : 1;
-  });
+  AddConfigTable(
+      cmd, "lidar", "docs/lidar-odometry.md",
+      [](bool md) { return md ? LidarOptionsMarkdown() : LidarConfigYaml(LidarConfig()); },
+      exit_code);
 }
 
 }  // namespace app

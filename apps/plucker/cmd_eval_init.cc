@@ -70,8 +70,8 @@ StaticReport EvaluateStatic(const io::EurocImuRecording& rec, const Eigen::Vecto
   Eigen::Vector3d up = Eigen::Vector3d::Zero();
   for (const sensor::BodyState& b : rec.ground_truth) {
     if (b.t < s.result.still_begin || b.t >= s.result.still_end) continue;
-    s.gt_gyro_bias += b.gyro_bias;
-    s.gt_accel_bias += b.accel_bias;
+    s.gt_gyro_bias += b.bias.gyro;
+    s.gt_accel_bias += b.bias.accel;
     up += UpB(b.T_w_b);
     ++s.gt_states;
   }
@@ -142,12 +142,12 @@ DynamicReport EvaluateDynamic(const io::EurocImuRecording& rec, const SE3d& T_b_
       const SE3d T_c0_ck = T_w_c0.Inverse() * b.T_w_b * T_b_c;
       in.T_c0_ck.emplace_back(T_c0_ck.rotation(), a.visual_scale * T_c0_ck.translation());
       v_c0.push_back(T_w_c0.RotationMatrix().transpose() * b.v_w);
-      gt_gyro += b.gyro_bias / a.keyframes;
-      gt_accel += b.accel_bias / a.keyframes;
+      gt_gyro += b.bias.gyro / a.keyframes;
+      gt_accel += b.bias.accel / a.keyframes;
       if (k == 0) continue;
       try {
-        in.preintegrations.push_back(
-            PreintegrateSamples(rec.imu, gt[i0 + (k - 1) * step].t, b.t, ImuBias{}, rec.imu_model));
+        in.preintegrations.push_back(PreintegrateSamples(rec.imu, gt[i0 + (k - 1) * step].t, b.t,
+                                                         sensor::ImuBias{}, rec.imu_model));
       } catch (const std::invalid_argument&) {
         covered = false;
         break;
@@ -167,7 +167,7 @@ DynamicReport EvaluateDynamic(const io::EurocImuRecording& rec, const SE3d& T_b_
     e.gyro_bias_error = (r.bias.gyro - gt_gyro).norm();
     e.accel_bias_error = (r.bias.accel - gt_accel).norm();
     for (int k = 0; k < a.keyframes; ++k) {
-      const Eigen::Vector3d v = r.R_w_c0.transpose() * r.velocities_w[k];
+      const Eigen::Vector3d v = r.R_w_c0.transpose() * r.states[k].v_w;
       e.velocity_error = std::max(e.velocity_error, (v - v_c0[k]).norm());
     }
     d.errors.push_back(e);

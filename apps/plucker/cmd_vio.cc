@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "option_flags.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
@@ -104,8 +105,7 @@ void PrintSummary(const VioArgs& a, const VioReport& report,
 
 int Run(const VioArgs& a) {
   const double t_start = WallMs();
-  VioConfig cfg = a.cfg;
-  if (a.no_lines) cfg.odometry.use_lines = false;
+  const VioConfig& cfg = a.cfg;
   std::vector<std::string> inputs = CameraFlagFiles(a.camera);
   inputs.insert(inputs.end(), {a.bag.bag, a.config});
   RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot});
@@ -210,35 +210,41 @@ void RegisterVio(CLI::App& app, int* exit_code) {
                   "SVG: top view, position error, height and IMU biases over time (against the "
                   "ground truth if present)");
   cmd->add_option("--config", args->config,
-                  "YAML options (docs/vio.md): any of " + VioConfigKeys() +
-                      " (T_b_c: [tx, ty, tz, qx, qy, qz, qw], instead of the input's)")
+                  "YAML options (`plucker config vio` prints them all with their ranges; "
+                  "docs/vio.md); a flag given on the command line overrides its key")
       ->check(CLI::ExistingFile);
-  cmd->add_flag("--no-lines", args->no_lines, "Points only");
+  CLI::Option* no_lines = cmd->add_flag("--no-lines", args->no_lines, "Points only (use_lines)");
   CLI::Option* estimate_extrinsic =
       cmd->add_flag("--estimate-extrinsic", args->estimate_extrinsic,
-                    "Estimate the camera-body extrinsic T_b_c online (docs/vio.md)");
-  CLI::Option* estimate_td = cmd->add_flag(
-      "--estimate-time-offset", args->estimate_time_offset,
-      "Estimate the camera-IMU time offset online (t_imu = t_cam + td; JSON summary "
-      "camera_imu_time_offset_s; config keys time_offset_s, time_offset_prior_sigma_s)");
+                    "Estimate the camera-body extrinsic T_b_c online (docs/vio.md; "
+                    "extrinsic.estimate)");
+  CLI::Option* estimate_td =
+      cmd->add_flag("--estimate-time-offset", args->estimate_time_offset,
+                    "Estimate the camera-IMU time offset online (t_imu = t_cam + td; JSON summary "
+                    "camera_imu_time_offset_s; time_offset.estimate, keys time_offset.initial_s, "
+                    "time_offset.prior_sigma_s)");
   CLI::Option* stride =
       cmd->add_option("--point-stride", args->point_stride,
-                      "Use the point tracks whose id is a multiple of this (features folders)")
-          ->check(CLI::Range(1, 1000000))
+                      "Use the point tracks whose id is a multiple of this (features folders; "
+                      "input.point_stride)")
           ->capture_default_str();
-  CLI::Option* window = cmd->add_option("--window", args->window, "Keyframes in the window")
-                            ->check(CLI::Range(2, 1000))
-                            ->capture_default_str();
+  CLI::Option* window =
+      cmd->add_option("--window", args->window, "Keyframes in the window (window.size)")
+          ->capture_default_str();
+  // Each flag sets its key of the table (vio_config.cc) after --config: one code path.
+  const std::vector<OptionFlag> flags = {{no_lines, "use_lines", "false"},
+                                         {estimate_extrinsic, "extrinsic.estimate", "true"},
+                                         {estimate_td, "time_offset.estimate", "true"},
+                                         {stride, "input.point_stride", ""},
+                                         {window, "window.size", ""}};
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
-  cmd->callback([args, exit_code, stride, window, estimate_extrinsic, estimate_td]() {
+  cmd->callback([args, exit_code, flags]() {
     RunGuarded("vio", exit_code, [&] {
       CheckVioSources(args->features, args->euroc, args->bag, args->camera);
       // The configuration file, then what the command line gives explicitly.
       if (!args->config.empty()) ApplyVioConfig(args->config, &args->cfg);
-      if (stride->count() > 0) args->cfg.point_stride = args->point_stride;
-      if (window->count() > 0) args->cfg.odometry.window = args->window;
-      if (estimate_extrinsic->count() > 0) args->cfg.odometry.estimate_extrinsic = true;
-      if (estimate_td->count() > 0) args->cfg.odometry.estimate_time_offset = true;
+      ApplyOptionFlags(VioOptions(), flags, &args->cfg);
+      CheckVioConfig(args->cfg, args->config.empty() ? "the command line" : args->config);
       return Run(*args);
     });
   });

@@ -22,6 +22,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "option_flags.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/odometry/monocular_odometry.h"
@@ -178,65 +179,69 @@ void RegisterVo(CLI::App& app, int* exit_code) {
   cmd->add_option("--out-online", args->out_online,
                   "Output KITTI poses as each frame's result gave them (nan rows: no pose yet)");
   cmd->add_option("--json", args->json, "Per-frame statistics, stage times and a summary (JSON)");
-  cmd->add_flag("--no-lines", args->no_lines, "Points only");
-  cmd->add_flag("--drop-marginalized-lines", args->drop_marginalized_lines,
-                "Drop the line observations of a marginalized keyframe (what PL-VIO does) "
-                "instead of keeping their information in the prior");
-  cmd->add_flag("--no-fej", args->no_fej,
-                "Relinearise every factor (no first-estimate Jacobians for the prior's blocks)");
-  cmd->add_flag("--no-line-conditioning", args->no_line_conditioning,
-                "Lines in the world frame instead of their anchor frame");
+  CLI::Option* no_lines = cmd->add_flag("--no-lines", args->no_lines, "Points only (use_lines)");
+  CLI::Option* drop_lines = cmd->add_flag(
+      "--drop-marginalized-lines", args->drop_marginalized_lines,
+      "Drop the line observations of a marginalized keyframe (what PL-VIO does) instead of "
+      "keeping their information in the prior (window.keep_marginalized_lines)");
+  CLI::Option* no_fej =
+      cmd->add_flag("--no-fej", args->no_fej,
+                    "Relinearise every factor (no first-estimate Jacobians for the prior's blocks; "
+                    "window.first_estimate_jacobians)");
+  CLI::Option* no_conditioning =
+      cmd->add_flag("--no-line-conditioning", args->no_line_conditioning,
+                    "Lines in the world frame instead of their anchor frame "
+                    "(window.condition_far_lines)");
   cmd->add_option("--point-stride", args->point_stride,
                   "Use the point tracks whose id is a multiple of this (scarce points)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  CLI::Option* window = cmd->add_option("--window", args->window, "Keyframes in the window")
-                            ->check(CLI::Range(2, 1000))
-                            ->capture_default_str();
+  CLI::Option* window =
+      cmd->add_option("--window", args->window, "Keyframes in the window (window.size)")
+          ->capture_default_str();
   CLI::Option* iterations =
-      cmd->add_option("--iterations", args->iterations, "Solver iterations per window solve")
-          ->check(CLI::Range(1, 1000))
+      cmd->add_option("--iterations", args->iterations,
+                      "Solver iterations per window solve (window.iterations)")
           ->capture_default_str();
   CLI::Option* line_min_angle =
       cmd->add_option(
              "--line-min-angle", args->line_min_angle_deg,
              "Smallest angle between the back-projected planes of a new line (deg; 10 with "
-             "--images)")
-          ->check(CLI::Range(0.0, 90.0))
+             "--images; window.line_min_angle_deg)")
           ->capture_default_str();
-  CLI::Option* loss_scale =
-      cmd->add_option("--loss-scale", args->loss_scale, "Huber loss scale (in pixel sigmas)")
-          ->check(CLI::PositiveNumber)
-          ->capture_default_str();
+  CLI::Option* loss_scale = cmd->add_option("--loss-scale", args->loss_scale,
+                                            "Huber loss scale (in pixel sigmas; window.loss_scale)")
+                                ->capture_default_str();
   cmd->add_option("--config", args->config,
-                  "YAML file of window and front-end options (keys: docs/vo.md); "
-                  "flags given on the command line override it")
+                  "YAML file of options (`plucker config vo` prints them all with their ranges; "
+                  "docs/vo.md); a flag given on the command line overrides its key")
       ->check(CLI::ExistingFile);
   cmd->add_option("--draw", args->draw,
                   "Folder for one PNG per frame: tracked points and segments, reprojected 3D lines "
                   "(--images only)");
-  cmd->add_option("--max-lost", args->max_lost_frames,
-                  "Lost frames in a row before a new two-view start (re-initialisation)")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
+  CLI::Option* max_lost =
+      cmd->add_option("--max-lost", args->max_lost_frames,
+                      "Lost frames in a row before a new two-view start (re-initialisation; "
+                      "init.max_lost_frames)")
+          ->capture_default_str();
+  // Each flag sets its key of the table (vo_config.cc) after --config: one code path.
+  const std::vector<OptionFlag> flags = {{window, "window.size", ""},
+                                         {iterations, "window.iterations", ""},
+                                         {loss_scale, "window.loss_scale", ""},
+                                         {line_min_angle, "window.line_min_angle_deg", ""},
+                                         {no_lines, "use_lines", "false"},
+                                         {drop_lines, "window.keep_marginalized_lines", "false"},
+                                         {no_fej, "window.first_estimate_jacobians", "false"},
+                                         {no_conditioning, "window.condition_far_lines", "false"},
+                                         {max_lost, "init.max_lost_frames", ""}};
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
-  cmd->callback([args, exit_code, line_min_angle, window, iterations, loss_scale]() {
+  cmd->callback([args, exit_code, flags]() {
     RunGuarded("vo", exit_code, [&] {
       CheckVoSources(args->features, args->images, args->draw);
       // Defaults (images: ImageVoConfig), then the file, then the flags given.
       VoConfig config = args->features.empty() ? ImageVoConfig() : FeaturesVoConfig();
       if (!args->config.empty()) LoadVoConfig(args->config, &config);
-      window::SlidingWindowOptions& w = config.window;
-      if (window->count()) w.window_size = args->window;
-      if (iterations->count()) w.max_iterations = args->iterations;
-      if (loss_scale->count()) w.loss_scale = args->loss_scale;
-      if (line_min_angle->count())
-        w.line_triangulation.min_plane_angle_deg = args->line_min_angle_deg;
-      if (args->no_lines) w.use_lines = false;
-      if (args->drop_marginalized_lines) w.keep_marginalized_lines = false;
-      if (args->no_fej) w.first_estimate_jacobians = false;
-      if (args->no_line_conditioning) w.condition_far_lines = false;
-      config.max_lost_frames = args->max_lost_frames;
+      ApplyOptionFlags(VoOptions(), flags, &config);
       return Run(*args, config);
     });
   });

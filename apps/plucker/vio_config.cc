@@ -1,121 +1,187 @@
 #include "vio_config.h"
 
-#include <yaml-cpp/yaml.h>
-
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <map>
+#include <stdexcept>
 
-#include <Eigen/Core>
-
-#include "plucker/io/io_error.h"
+#include "vo_config.h"
 
 namespace plucker {
 namespace app {
 namespace {
 
-using Options = odometry::VisualInertialOdometryOptions;
-using ConfigSetter = std::function<void(const YAML::Node&, VioConfig*)>;
-
-template <typename T>
-ConfigSetter Field(T Options::*member) {
-  return [member](const YAML::Node& node, VioConfig* c) { c->odometry.*member = node.as<T>(); };
-}
-
-// One per option, in the order of --help.
-const std::vector<std::pair<std::string, ConfigSetter>>& ConfigFields() {
-  static const std::vector<std::pair<std::string, ConfigSetter>> fields = {
-      {"use_lines", Field(&Options::use_lines)},
-      {"point_stride", [](const YAML::Node& n, VioConfig* c) { c->point_stride = n.as<int>(); }},
-      {"window", Field(&Options::window)},
-      {"prior_on_poses_only", Field(&Options::prior_on_poses_only)},
-      {"iterations", Field(&Options::iterations)},
-      {"keyframe_parallax_px", Field(&Options::keyframe_parallax_px)},
-      {"min_tracked", Field(&Options::min_tracked)},
-      {"min_tracked_ratio", Field(&Options::min_tracked_ratio)},
-      {"max_keyframe_interval_s", Field(&Options::max_keyframe_interval_s)},
-      {"gyro_bias_prior_sigma", Field(&Options::gyro_bias_prior_sigma)},
-      {"accel_bias_prior_sigma", Field(&Options::accel_bias_prior_sigma)},
-      {"velocity_prior_sigma", Field(&Options::velocity_prior_sigma)},
-      {"tracking_velocity_sigma", Field(&Options::tracking_velocity_sigma)},
-      {"init_min_keyframes", Field(&Options::init_min_keyframes)},
-      {"init_max_keyframes", Field(&Options::init_max_keyframes)},
-      {"init_min_excitation", Field(&Options::init_min_excitation)},
-      {"init_max_rotation_disagreement_deg", Field(&Options::init_max_rotation_disagreement_deg)},
-      {"init_gyro_bias_bound", Field(&Options::init_gyro_bias_bound)},
-      {"image_still_px", Field(&Options::image_still_px)},
-      {"max_point_tracks", Field(&Options::max_point_tracks)},
-      {"point_min_distance_px", Field(&Options::point_min_distance_px)},
-      {"line_max_segments", Field(&Options::line_max_segments)},
-      {"line_detection_scale", Field(&Options::line_detection_scale)},
-      {"line_flow_samples", Field(&Options::line_flow_samples)},
-      {"estimate_extrinsic", Field(&Options::estimate_extrinsic)},
-      {"extrinsic_rotation_sigma", Field(&Options::extrinsic_rotation_sigma)},
-      {"extrinsic_translation_sigma", Field(&Options::extrinsic_translation_sigma)},
-      {"extrinsic_min_rotation_deg", Field(&Options::extrinsic_min_rotation_deg)},
-      {"estimate_time_offset", Field(&Options::estimate_time_offset)},
-      {"time_offset_s", Field(&Options::time_offset_s)},
-      {"time_offset_prior_sigma_s", Field(&Options::time_offset_prior_sigma_s)},
-      {"T_b_c", [](const YAML::Node& n, VioConfig* c) { c->T_b_c = n.as<std::vector<double>>(); }},
+// [tx, ty, tz, qx, qy, qz, qw] with a non-zero quaternion, or empty.
+OptionRow<VioConfig> ExtrinsicRow() {
+  OptionRow<VioConfig> o{"extrinsic.T_b_c",
+                         "list",
+                         "m, quaternion",
+                         "[tx, ty, tz, qx, qy, qz, qw]: the camera in the body frame instead of "
+                         "the input's ([]: the input's)",
+                         "7 finite numbers, quaternion != 0",
+                         nullptr,
+                         nullptr};
+  o.get = [](const VioConfig& c) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < c.T_b_c.size(); ++i)
+      s += (i ? ", " : "") + options_internal::FormatNumber(c.T_b_c[i]);
+    return s + "]";
   };
-  return fields;
+  o.set = [](const YAML::Node& n, VioConfig* c) {
+    std::vector<double> e;
+    try {
+      if (!n.IsSequence()) throw std::invalid_argument("");
+      e = n.as<std::vector<double>>();
+    } catch (const std::exception&) {
+      throw std::invalid_argument("expected a list of 7 numbers [tx, ty, tz, qx, qy, qz, qw]");
+    }
+    const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
+    if (!e.empty() &&
+        (e.size() != 7 || !finite || Eigen::Vector4d(e[3], e[4], e[5], e[6]).norm() < 1e-6)) {
+      throw std::invalid_argument(
+          "expected 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero quaternion");
+    }
+    c->T_b_c = e;
+  };
+  return o;
 }
 
-// Applies a YAML map of keys; messages name `path`.
-void ApplyVioConfigNode(const YAML::Node& root, const std::string& path, VioConfig* c) {
-  if (root.IsNull()) return;
-  if (!root.IsMap()) throw io::IoError(path, "expected a map of option: value");
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    const auto field = std::find_if(ConfigFields().begin(), ConfigFields().end(),
-                                    [&](const auto& f) { return f.first == key; });
-    if (field == ConfigFields().end()) throw io::IoError(path, "unknown option '" + key + "'");
-    try {
-      field->second(kv.second, c);
-    } catch (const YAML::Exception&) {
-      throw io::IoError(path, "option '" + key + "' has a value of the wrong type");
-    }
-  }
-  const std::string problem = c->odometry.Problem();
-  if (!problem.empty()) throw io::IoError(path, problem);
-  if (c->point_stride < 1) throw io::IoError(path, "an option is out of range (point_stride >= 1)");
-  const std::vector<double>& e = c->T_b_c;
-  const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
-  if (!e.empty() &&
-      (e.size() != 7 || !finite || Eigen::Vector4d(e[3], e[4], e[5], e[6]).norm() < 1e-6)) {
-    throw io::IoError(path,
-                      "T_b_c must be 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero "
-                      "quaternion");
-  }
+std::vector<OptionRow<VioConfig>> MakeRows() {
+  OptionRows<VioConfig> t;
+  t.Bool("use_lines", kUseLinesDoc, PLUCKER_OPTION_MEMBER(odometry.use_lines));
+  t.Value(SharedVisualOption("window.size"), PLUCKER_OPTION_MEMBER(odometry.window));
+  t.Value(SharedVisualOption("window.iterations"), PLUCKER_OPTION_MEMBER(odometry.iterations));
+  t.Value(SharedVisualOption("window.keyframe_parallax_px"),
+          PLUCKER_OPTION_MEMBER(odometry.keyframe_parallax_px));
+  t.Value(SharedVisualOption("window.min_tracked"), PLUCKER_OPTION_MEMBER(odometry.min_tracked));
+  t.Value(SharedVisualOption("window.min_tracked_ratio"),
+          PLUCKER_OPTION_MEMBER(odometry.min_tracked_ratio));
+  t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
+         PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
+  t.Value("inertial.max_imu_factor_span_s", "s",
+          "a keyframe at the latest this long after the previous one (short IMU factors)",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.max_imu_factor_span_s));
+  t.Value("inertial.gyro_bias_prior_sigma", "rad/s", "prior on the first keyframe's gyro bias",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.gyro_bias_prior_sigma));
+  t.Value("inertial.accel_bias_prior_sigma", "m/s^2", "prior on the first keyframe's accel bias",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.accel_bias_prior_sigma));
+  t.Value("inertial.velocity_prior_sigma", "m/s", "prior on the first keyframe's velocity",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.velocity_prior_sigma));
+  t.Value("inertial.tracking_velocity_sigma", "m/s",
+          "per-frame tracking fuses the IMU prediction with this sigma (0: vision only)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.tracking_velocity_sigma));
+  t.Value("init.min_keyframes", "keyframes", "dynamic start: keyframes before the alignment",
+          AtLeast(4), PLUCKER_OPTION_MEMBER(odometry.init_min_keyframes));
+  t.Value("init.max_keyframes", "keyframes",
+          "dynamic start: the most it waits for (>= init.min_keyframes)", AtLeast(4),
+          PLUCKER_OPTION_MEMBER(odometry.init_max_keyframes));
+  t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
+  t.Value("init.max_rotation_disagreement_deg", "deg",
+          "two-view rotation against the gyroscope's, plus init.gyro_bias_bound x the time apart",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.init_max_rotation_disagreement_deg));
+  t.Value("init.gyro_bias_bound", "rad/s", "the largest gyro bias expected before it is known",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_gyro_bias_bound));
+  t.Value("init.image_still_px", "px",
+          "median point motion above which a frame moves (vetoes the static start)", AtLeast(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.image_still_px));
+  t.Value(SharedVisualOption("points.max_tracks"),
+          PLUCKER_OPTION_MEMBER(odometry.max_point_tracks));
+  t.Value(SharedVisualOption("points.min_distance_px"),
+          PLUCKER_OPTION_MEMBER(odometry.point_min_distance_px));
+  t.Value(SharedVisualOption("lines.max_segments"),
+          PLUCKER_OPTION_MEMBER(odometry.line_max_segments));
+  t.Value(SharedVisualOption("lines.detection_scale"),
+          PLUCKER_OPTION_MEMBER(odometry.line_detection_scale));
+  t.Value(SharedVisualOption("lines.flow_samples"),
+          PLUCKER_OPTION_MEMBER(odometry.line_flow_samples));
+  t.Bool("extrinsic.estimate", "estimate T_b_c online (as --estimate-extrinsic)",
+         PLUCKER_OPTION_MEMBER(odometry.estimate_extrinsic));
+  t.Value("extrinsic.rotation_sigma", "rad", "prior on the given T_b_c's rotation", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.extrinsic_rotation_sigma));
+  t.Value("extrinsic.translation_sigma", "m", "prior on the given T_b_c's translation", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.extrinsic_translation_sigma));
+  t.Value("extrinsic.min_rotation_deg", "deg",
+          "held until the window has rotated this much about two axes (0: free from the start)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.extrinsic_min_rotation_deg));
+  t.Custom(ExtrinsicRow());
+  t.Bool("time_offset.estimate", "estimate the camera-IMU time offset (as --estimate-time-offset)",
+         PLUCKER_OPTION_MEMBER(odometry.estimate_time_offset));
+  t.Value("time_offset.initial_s", "s", "td, t_imu = t_cam + td (Kalibr's convention)",
+          Range{-1.0, 1.0, true}, PLUCKER_OPTION_MEMBER(odometry.time_offset_s));
+  t.Value("time_offset.prior_sigma_s", "s", "prior on td around time_offset.initial_s", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.time_offset_prior_sigma_s));
+  t.Value("input.point_stride", "",
+          "features folders: the point tracks whose id is a multiple of this (as --point-stride)",
+          AtLeast(1), PLUCKER_OPTION_MEMBER(point_stride));
+  return t.Take();
 }
 
 }  // namespace
 
-std::string VioConfigKeys() {
-  std::string keys;
-  for (const auto& f : ConfigFields()) keys += (keys.empty() ? "" : ", ") + f.first;
-  return keys;
+const OptionsTable<VioConfig>& VioOptions() {
+  static const OptionsTable<VioConfig> table(
+      TableText{"vio",
+                "apps/plucker/vio_config.cc",
+                {{"window", "the sliding window, window/sliding_window_estimator.h"},
+                 {"inertial", "IMU factors and priors, window::InertialOptions"},
+                 {"init", "static and dynamic initialisation, odometry/visual_inertial_odometry.h"},
+                 {"points", "point tracks of --euroc images, vision/image_frontend.h"},
+                 {"lines", "segments of --euroc images, vision/image_frontend.h"},
+                 {"extrinsic", "online camera-body extrinsic (docs/vio.md)"},
+                 {"time_offset", "online camera-IMU time offset (docs/vio.md)"},
+                 {"input", "what plucker vio reads"}},
+                {{"window", "window.size"},
+                 {"prior_on_poses_only", "window.prior_on_poses_only"},
+                 {"iterations", "window.iterations"},
+                 {"keyframe_parallax_px", "window.keyframe_parallax_px"},
+                 {"min_tracked", "window.min_tracked"},
+                 {"min_tracked_ratio", "window.min_tracked_ratio"},
+                 {"max_keyframe_interval_s", "inertial.max_imu_factor_span_s"},
+                 {"gyro_bias_prior_sigma", "inertial.gyro_bias_prior_sigma"},
+                 {"accel_bias_prior_sigma", "inertial.accel_bias_prior_sigma"},
+                 {"velocity_prior_sigma", "inertial.velocity_prior_sigma"},
+                 {"tracking_velocity_sigma", "inertial.tracking_velocity_sigma"},
+                 {"init_min_keyframes", "init.min_keyframes"},
+                 {"init_max_keyframes", "init.max_keyframes"},
+                 {"init_min_excitation", "init.min_excitation"},
+                 {"init_max_rotation_disagreement_deg", "init.max_rotation_disagreement_deg"},
+                 {"init_gyro_bias_bound", "init.gyro_bias_bound"},
+                 {"image_still_px", "init.image_still_px"},
+                 {"max_point_tracks", "points.max_tracks"},
+                 {"point_min_distance_px", "points.min_distance_px"},
+                 {"line_max_segments", "lines.max_segments"},
+                 {"line_detection_scale", "lines.detection_scale"},
+                 {"line_flow_samples", "lines.flow_samples"},
+                 {"estimate_extrinsic", "extrinsic.estimate"},
+                 {"extrinsic_rotation_sigma", "extrinsic.rotation_sigma"},
+                 {"extrinsic_translation_sigma", "extrinsic.translation_sigma"},
+                 {"extrinsic_min_rotation_deg", "extrinsic.min_rotation_deg"},
+                 {"T_b_c", "extrinsic.T_b_c"},
+                 {"estimate_time_offset", "time_offset.estimate"},
+                 {"time_offset_s", "time_offset.initial_s"},
+                 {"time_offset_prior_sigma_s", "time_offset.prior_sigma_s"},
+                 {"point_stride", "input.point_stride"}}},
+      MakeRows());
+  return table;
 }
 
-void ApplyVioConfig(const std::string& path, VioConfig* c) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw io::IoError(path, "invalid YAML: " + e.msg);
-  }
-  ApplyVioConfigNode(root, path, c);
+void ApplyVioConfig(const std::string& path, VioConfig* config) { VioOptions().Load(path, config); }
+
+void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* config) {
+  VioOptions().Apply(text, name, config);
+  CheckVioConfig(*config, name);
 }
 
-void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* c) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw io::IoError(name, "invalid YAML: " + e.msg);
+void CheckVioConfig(const VioConfig& config, const std::string& name) {
+  const odometry::VisualInertialOdometryOptions& o = config.odometry;
+  if (o.init_max_keyframes < o.init_min_keyframes) {
+    throw std::runtime_error(
+        name + ": key 'init.max_keyframes' (" + std::to_string(o.init_max_keyframes) +
+        ") must be >= init.min_keyframes (" + std::to_string(o.init_min_keyframes) + ")");
   }
-  ApplyVioConfigNode(root, name, c);
+  const std::string problem = o.Problem();  // the library's own check, after the table's
+  if (!problem.empty()) throw std::runtime_error(name + ": " + problem);
 }
 
 }  // namespace app

@@ -1,10 +1,14 @@
-// The options of `plucker vio` (docs/vio.md): the odometry's (odometry/visual_inertial_odometry.h)
-// and the input's, set by name from --config FILE.yaml.
+// The options of `plucker vio` (docs/vio.md) in one table (vio_config.cc, the mechanism of
+// options_table.h): the odometry's (odometry/visual_inertial_odometry.h) and the input's, set
+// from --config FILE.yaml and the flags that set the same options; config/vio_default.yaml and
+// the table of docs/vio.md come from it (`plucker config vio [--markdown]`). The keys the VIO
+// shares with `plucker vo` (use_lines, window.*, points.*, lines.*) are spelled as there.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "options_table.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
 
 namespace plucker {
@@ -18,14 +22,18 @@ struct VioConfig {
   std::vector<double> T_b_c;
 };
 
-// The keys of --config, comma-separated (for --help).
-std::string VioConfigKeys();
+const OptionsTable<VioConfig>& VioOptions();
 
-// Reads --config: a YAML map of keys. Unknown keys, wrong types and values out of range are
-// io::IoError naming the file.
+// Reads --config: a YAML map of keys (nested groups or dotted keys). Unknown or renamed keys,
+// wrong types, values out of range and invalid YAML are std::runtime_error naming the file and
+// the key.
 void ApplyVioConfig(const std::string& path, VioConfig* config);
-// The same for YAML text (`name` stands for the file in the messages, e.g. the Python options).
+// The same for YAML text (`name` stands for the file in the messages, e.g. the Python options),
+// with CheckVioConfig after it.
 void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* config);
+// The checks across keys (init.max_keyframes >= init.min_keyframes, ...) after the file and the
+// flags: std::runtime_error naming `name`.
+void CheckVioConfig(const VioConfig& config, const std::string& name);
 
 }  // namespace app
 }  // namespace plucker

@@ -19,7 +19,7 @@ const char* kStageNames[window::kNumWindowStages] = {"tracking", "triangulation"
 
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json StateJson(const window::InertialState& s) {
+nlohmann::json StateJson(const sensor::BodyState& s) {
   return {{"v_w", Vec(s.v_w)}, {"gyro_bias", Vec(s.bias.gyro)}, {"accel_bias", Vec(s.bias.accel)}};
 }
 
@@ -34,7 +34,7 @@ double AngleDeg(const SE3d& a, const SE3d& b) {
   return LogSO3<double>(a.rotation().conjugate() * b.rotation()).norm() * 180.0 / M_PI;
 }
 
-nlohmann::json WindowJson(const window::FrameResult& r) {
+nlohmann::json WindowJson(const window::WindowFrameResult& r) {
   return {{"keyframe", r.keyframe},
           {"tracked_points", r.tracked_points},
           {"tracked_lines", r.tracked_lines},
@@ -106,7 +106,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
                rec.status == odometry::VioStatus::kSkippedNonFinite;
     f["status"] = odometry::ToString(rec);
     if (!rec.window) continue;
-    const window::FrameResult& w = *rec.window;
+    const window::WindowFrameResult& w = *rec.window;
     const nlohmann::json stats = WindowJson(w);
     for (auto& kv : stats.items()) f[kv.key()] = kv.value();
     keyframes += w.keyframe;
@@ -249,7 +249,7 @@ eval::SeriesPanel AxesPanel(const std::string& title, const std::string& unit,
 std::string HeightAndBiasesSvg(const VioInput& in, const std::vector<double>& times,
                                const std::vector<SE3d>& est_aligned, const std::vector<SE3d>& gt,
                                const std::vector<double>& bias_times,
-                               const std::vector<window::InertialState>& states) {
+                               const std::vector<sensor::BodyState>& states) {
   eval::SeriesFigure figure;
   figure.title = "plucker vio: height and IMU biases";
   figure.subtitle = in.source;
@@ -268,13 +268,13 @@ std::string HeightAndBiasesSvg(const VioInput& in, const std::vector<double>& ti
   }
   figure.panels.push_back(height);
   std::vector<Eigen::Vector3d> gyro, accel, gt_gyro, gt_accel;
-  for (const window::InertialState& s : states) {
+  for (const sensor::BodyState& s : states) {
     gyro.push_back(s.bias.gyro);
     accel.push_back(s.bias.accel);
   }
   for (const sensor::BodyState& s : NearestGroundTruthStates(in, bias_times)) {
-    gt_gyro.push_back(s.gyro_bias);
-    gt_accel.push_back(s.accel_bias);
+    gt_gyro.push_back(s.bias.gyro);
+    gt_accel.push_back(s.bias.accel);
   }
   figure.panels.push_back(AxesPanel("gyroscope bias", "rad/s", bias_times, gyro, gt_gyro));
   figure.panels.push_back(AxesPanel("accelerometer bias", "m/s^2", bias_times, accel, gt_accel));
@@ -288,7 +288,7 @@ void WriteVioPlot(const std::string& path, const VioInput& in,
                   const std::vector<odometry::VioFrameRecord>& records,
                   const std::vector<odometry::VioFrameRecord>& online) {
   std::vector<double> bias_times;
-  std::vector<window::InertialState> states;
+  std::vector<sensor::BodyState> states;
   for (const odometry::VioFrameRecord& r : online) {
     if (!r.window) continue;
     bias_times.push_back(r.time);

@@ -7,7 +7,8 @@
 
 namespace plucker {
 namespace app {
-void RegisterBagFromEuroc(CLI::App& bag_cmd, int* exit_code);  // cmd_bag_euroc.cc
+void RegisterBagFromEuroc(CLI::App& bag_cmd, int* exit_code);     // cmd_bag_euroc.cc
+void RegisterConfigVision(CLI::App& config_cmd, int* exit_code);  // cmd_config_vision.cc
 }  // namespace app
 }  // namespace plucker
 
@@ -20,4 +21,5 @@ extern "C" void PluckerRegisterVisionCommands(CLI::App* app, int* exit_code) {
   RegisterBenchLines(*app->get_subcommand("bench"), exit_code);
   RegisterEvalTracks(*app->get_subcommand("eval"), exit_code);
   RegisterBagFromEuroc(*app->get_subcommand("bag"), exit_code);
+  RegisterConfigVision(*app->get_subcommand("config"), exit_code);
 }

@@ -1,13 +1,6 @@
 #include "vo_config.h"
 
-#include <yaml-cpp/yaml.h>
-
-#include <fstream>
-#include <functional>
-#include <limits>
-#include <sstream>
 #include <stdexcept>
-#include <type_traits>
 
 namespace plucker {
 namespace app {
@@ -15,140 +8,120 @@ namespace {
 
 using Prior = window::SlidingWindowOptions::PriorBlocks;
 
-struct Row {
-  std::string key;
-  std::string doc;
-  std::function<void(const YAML::Node&, VoConfig*)> set;  // throws std::invalid_argument
-};
-
-template <typename T>
-T Parse(const YAML::Node& n) {
-  try {
-    return n.as<T>();
-  } catch (const YAML::Exception&) {
-    const char* what = std::is_same<T, bool>::value  ? "true or false"
-                       : std::is_same<T, int>::value ? "an integer"
-                                                     : "a number";
-    throw std::invalid_argument(std::string("expected ") + what + ", got '" + n.Scalar() + "'");
-  }
-}
-
-// A scalar of type T in [lo, hi] written into the member `field` returns.
-template <typename T, typename Field>
-Row Value(const char* key, const char* doc, T lo, T hi, Field field) {
-  return {key, doc, [field, lo, hi](const YAML::Node& n, VoConfig* c) {
-            const T v = Parse<T>(n);
-            if (!(v >= lo && v <= hi)) {
-              std::ostringstream s;
-              s << "value " << n.Scalar() << " out of range [" << lo << ", " << hi << "]";
-              throw std::invalid_argument(s.str());
-            }
-            field(*c) = v;
-          }};
-}
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kMaxInt = std::numeric_limits<int>::max();
-
-const std::vector<Row>& Table() {
-  static const std::vector<Row> rows = {
-      Value<int>("window.size", "keyframes in the window", 2, 1000,
-                 [](VoConfig& c) -> int& { return c.window.window_size; }),
-      Value<int>("window.iterations", "solver iterations per window solve", 1, 1000,
-                 [](VoConfig& c) -> int& { return c.window.max_iterations; }),
-      Value<int>("window.tracking_iterations", "iterations of the motion-only pose", 1, 1000,
-                 [](VoConfig& c) -> int& { return c.window.max_tracking_iterations; }),
-      Value<double>("window.keyframe_parallax_px", "keyframe at this median parallax [px]", 0.0,
-                    kInf, [](VoConfig& c) -> double& { return c.window.keyframe_parallax_px; }),
-      Value<int>("window.min_tracked", "keyframe under this many tracked landmarks", 0, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.window.min_tracked; }),
-      Value<double>("window.min_tracked_ratio", "keyframe under this share tracked", 0.0, 1.0,
-                    [](VoConfig& c) -> double& { return c.window.min_tracked_ratio; }),
-      Value<double>("window.loss_scale", "Huber/Cauchy scale [sigmas]", 1e-9, kInf,
-                    [](VoConfig& c) -> double& { return c.window.loss_scale; }),
-      Value<double>("window.outlier_sigmas", "observations above this are culled", 1e-9, kInf,
-                    [](VoConfig& c) -> double& { return c.window.outlier_sigmas; }),
-      Value<bool>("window.use_lines", "lines in the window", false, true,
-                  [](VoConfig& c) -> bool& { return c.window.use_lines; }),
-      Value<bool>("window.keep_marginalized_lines", "keep k0's line information", false, true,
-                  [](VoConfig& c) -> bool& { return c.window.keep_marginalized_lines; }),
-      Value<bool>("window.retain_line_observer_poses",
-                  "k0's pose kept while lines that stay have observations from it (false: those in "
-                  "the prior)",
-                  false, true,
-                  [](VoConfig& c) -> bool& { return c.window.retain_line_observer_poses; }),
-      Value<int>("window.max_retained_poses", "retained observer poses at most", 0, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.window.max_retained_poses; }),
-      Value<bool>("window.retained_overflow_into_prior",
-                  "lines of a retained pose beyond the maximum into the prior (false: dropped)",
-                  false, true,
-                  [](VoConfig& c) -> bool& { return c.window.retained_overflow_into_prior; }),
-      Value<bool>("window.first_estimate_jacobians", "FEJ on the prior's blocks", false, true,
-                  [](VoConfig& c) -> bool& { return c.window.first_estimate_jacobians; }),
-      Value<bool>("window.condition_far_lines", "lines in their anchor frame", false, true,
-                  [](VoConfig& c) -> bool& { return c.window.condition_far_lines; }),
-      {"window.prior_on_poses_only", "poses-only prior (fast) instead of one on landmarks",
-       [](const YAML::Node& n, VoConfig* c) {
-         c->window.prior_blocks = Parse<bool>(n) ? Prior::kPoses : Prior::kLandmarks;
-       }},
-      Value<double>(
-          "window.line_min_angle_deg", "angle between the planes of a new line [deg]", 0.0, 90.0,
-          [](VoConfig& c) -> double& { return c.window.line_triangulation.min_plane_angle_deg; }),
-      Value<double>(
-          "window.point_min_parallax_deg", "parallax of a new point [deg]", 0.0, 90.0,
-          [](VoConfig& c) -> double& { return c.window.point_triangulation.min_parallax_deg; }),
-      Value<int>("init.max_gap", "frames searched for the second view of the start", 1, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.start.max_init_gap; }),
-      Value<int>("init.min_common_tracks", "point tracks seen in both views of a start", 5, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.start.two_view.min_common_tracks; }),
-      Value<int>("init.min_inliers", "essential-matrix inliers of a start", 5, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.start.two_view.min_inliers; }),
-      Value<double>("init.min_parallax_px", "rotation-compensated parallax of a start [px]", 0.0,
-                    kInf, [](VoConfig& c) -> double& { return c.start.two_view.min_parallax_px; }),
-      Value<bool>("init.widest_pair", "start on the widest pair that passes, not the first", false,
-                  true, [](VoConfig& c) -> bool& { return c.start.widest_init_pair; }),
-      Value<bool>("init.multi_view", "frames between the two views as keyframes of the start",
-                  false, true, [](VoConfig& c) -> bool& { return c.start.multi_view_start; }),
-      Value<double>("init.max_chi2_z",
-                    "accept a start whose chi-square (chi2 - dof) / sqrt(2 dof) is at most this",
-                    -kInf, kInf, [](VoConfig& c) -> double& { return c.start.max_init_chi2_z; }),
-      Value<int>("init.max_tries", "starts tried from one first view before the best is taken", 1,
-                 kMaxInt, [](VoConfig& c) -> int& { return c.start.max_init_tries; }),
-      Value<int>("points.max_tracks", "live point tracks kept", 1, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.frontend.points.target_count; }),
-      Value<double>("points.min_distance_px", "between point tracks [px]", 0.0, kInf,
-                    [](VoConfig& c) -> double& { return c.frontend.points.min_distance_px; }),
-      Value<double>("points.ransac_threshold_px", "epipolar RANSAC threshold [px]", 1e-9, kInf,
-                    [](VoConfig& c) -> double& { return c.frontend.points.ransac_threshold_px; }),
-      Value<bool>("lines.enabled", "detect and track segments", false, true,
-                  [](VoConfig& c) -> bool& { return c.frontend.use_lines; }),
-      Value<int>("lines.max_segments", "longest segments kept per image (0: all)", 0, kMaxInt,
-                 [](VoConfig& c) -> int& { return c.frontend.max_segments; }),
-      Value<double>("lines.min_segment_px", "shorter segments are not tracked [px]", 0.0, kInf,
-                    [](VoConfig& c) -> double& { return c.frontend.min_segment_px; }),
-      Value<double>("lines.detection_scale", "image scale of the detection", 1e-3, 1.0,
-                    [](VoConfig& c) -> double& { return c.frontend.detection_scale; }),
-      Value<int>("lines.flow_samples", "points per segment followed by flow", 0, 1000,
-                 [](VoConfig& c) -> int& { return c.frontend.lines.flow_samples; }),
-      Value<int>("lines.max_lost_frames", "frames a line track may skip", 0, 1000,
-                 [](VoConfig& c) -> int& { return c.frontend.lines.max_lost_frames; }),
+const std::vector<OptionSpec>& SharedSpecs() {
+  static const std::vector<OptionSpec> specs = {
+      {"window.size", "keyframes", "keyframes in the window", Between(2, 1000)},
+      {"window.iterations", "", "solver iterations per window solve", Between(1, 1000)},
+      {"window.keyframe_parallax_px", "px", "keyframe at this median parallax", AtLeast(0.0)},
+      {"window.min_tracked", "", "keyframe under this many tracked landmarks", AtLeast(0)},
+      {"window.min_tracked_ratio", "", "keyframe under this share of the observations tracked",
+       Between(0.0, 1.0)},
+      {"points.max_tracks", "", "live point tracks kept (images)", AtLeast(1)},
+      {"points.min_distance_px", "px", "between point tracks (images)", AtLeast(0.0)},
+      {"lines.max_segments", "", "longest segments kept per image (0: all)", AtLeast(0)},
+      {"lines.detection_scale", "", "image scale of the segment detection", Range{0.0, 1.0, true}},
+      {"lines.flow_samples", "", "points per segment followed by optical flow (0: no flow gate)",
+       Between(0, 1000)},
   };
-  return rows;
+  return specs;
 }
 
-void Flatten(const YAML::Node& node, const std::string& prefix,
-             std::vector<std::pair<std::string, YAML::Node>>* out) {
-  for (const auto& kv : node) {
-    const std::string key = prefix + kv.first.as<std::string>();
-    if (kv.second.IsMap()) {
-      Flatten(kv.second, key + ".", out);
-    } else {
-      out->emplace_back(key, kv.second);
-    }
-  }
+// The rows every visual pipeline shares, with one spelling and one range (vio_config.cc uses the
+// same keys for its own members).
+std::vector<OptionRow<VoConfig>> MakeRows() {
+  OptionRows<VoConfig> t;
+  t.BoolWith(
+      "use_lines", kUseLinesDoc,
+      [](const VoConfig& c) { return c.window.use_lines && c.frontend.use_lines; },
+      [](VoConfig* c, bool on) { c->window.use_lines = c->frontend.use_lines = on; });
+  t.Value(SharedVisualOption("window.size"), PLUCKER_OPTION_MEMBER(window.window_size));
+  t.Value(SharedVisualOption("window.iterations"), PLUCKER_OPTION_MEMBER(window.max_iterations));
+  t.Value("window.tracking_iterations", "", "iterations of the motion-only pose", Between(1, 1000),
+          PLUCKER_OPTION_MEMBER(window.max_tracking_iterations));
+  t.Value(SharedVisualOption("window.keyframe_parallax_px"),
+          PLUCKER_OPTION_MEMBER(window.keyframe_parallax_px));
+  t.Value(SharedVisualOption("window.min_tracked"), PLUCKER_OPTION_MEMBER(window.min_tracked));
+  t.Value(SharedVisualOption("window.min_tracked_ratio"),
+          PLUCKER_OPTION_MEMBER(window.min_tracked_ratio));
+  t.Value("window.loss_scale", "sigma", "Huber scale of the reprojection residuals", Above(0.0),
+          PLUCKER_OPTION_MEMBER(window.loss_scale));
+  t.Value("window.outlier_sigmas", "sigma", "observations above this are culled", Above(0.0),
+          PLUCKER_OPTION_MEMBER(window.outlier_sigmas));
+  t.Bool("window.keep_marginalized_lines",
+         "keep k0's line information in the prior (false: dropped, as PL-VIO)",
+         PLUCKER_OPTION_MEMBER(window.keep_marginalized_lines));
+  t.Bool("window.retain_line_observer_poses",
+         "k0's pose kept while lines that stay have observations from it (false: those in the "
+         "prior)",
+         PLUCKER_OPTION_MEMBER(window.retain_line_observer_poses));
+  t.Value("window.max_retained_poses", "", "retained observer poses at most", AtLeast(0),
+          PLUCKER_OPTION_MEMBER(window.max_retained_poses));
+  t.Bool("window.retained_overflow_into_prior",
+         "lines of a retained pose beyond the maximum into the prior (false: dropped)",
+         PLUCKER_OPTION_MEMBER(window.retained_overflow_into_prior));
+  t.Bool("window.first_estimate_jacobians", "FEJ on the prior's blocks",
+         PLUCKER_OPTION_MEMBER(window.first_estimate_jacobians));
+  t.Bool("window.condition_far_lines", "lines in their anchor frame (false: the world frame)",
+         PLUCKER_OPTION_MEMBER(window.condition_far_lines));
+  t.BoolWith(
+      "window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
+      [](const VoConfig& c) { return c.window.prior_blocks == Prior::kPoses; },
+      [](VoConfig* c, bool on) {
+        c->window.prior_blocks = on ? Prior::kPoses : Prior::kLandmarks;
+      });
+  t.Value("window.line_min_angle_deg", "deg", "angle between the planes of a new line",
+          Between(0.0, 90.0), PLUCKER_OPTION_MEMBER(window.line_triangulation.min_plane_angle_deg));
+  t.Value("window.point_min_parallax_deg", "deg", "parallax of a new point", Between(0.0, 90.0),
+          PLUCKER_OPTION_MEMBER(window.point_triangulation.min_parallax_deg));
+  t.Value("init.max_gap", "frames", "frames searched for the second view of the start", AtLeast(1),
+          PLUCKER_OPTION_MEMBER(start.max_init_gap));
+  t.Value("init.min_common_tracks", "", "point tracks seen in both views of a start", AtLeast(5),
+          PLUCKER_OPTION_MEMBER(start.two_view.min_common_tracks));
+  t.Value("init.min_inliers", "", "essential-matrix inliers of a start", AtLeast(5),
+          PLUCKER_OPTION_MEMBER(start.two_view.min_inliers));
+  t.Value("init.min_parallax_px", "px", "rotation-compensated parallax of a start", AtLeast(0.0),
+          PLUCKER_OPTION_MEMBER(start.two_view.min_parallax_px));
+  t.Bool("init.widest_pair", "start on the widest pair that passes, not the first",
+         PLUCKER_OPTION_MEMBER(start.widest_init_pair));
+  t.Bool("init.multi_view", "frames between the two views as keyframes of the start",
+         PLUCKER_OPTION_MEMBER(start.multi_view_start));
+  t.Value("init.max_chi2_z", "",
+          "accept a start whose chi-square (chi2 - dof) / sqrt(2 dof) is at most this", AnyValue(),
+          PLUCKER_OPTION_MEMBER(start.max_init_chi2_z));
+  t.Value("init.max_tries", "", "starts tried from one first view before the best is taken",
+          AtLeast(1), PLUCKER_OPTION_MEMBER(start.max_init_tries));
+  t.Value("init.max_lost_frames", "frames",
+          "lost frames in a row before a new start (as --max-lost)", AtLeast(1),
+          PLUCKER_OPTION_MEMBER(max_lost_frames));
+  t.Value(SharedVisualOption("points.max_tracks"),
+          PLUCKER_OPTION_MEMBER(frontend.points.target_count));
+  t.Value(SharedVisualOption("points.min_distance_px"),
+          PLUCKER_OPTION_MEMBER(frontend.points.min_distance_px));
+  t.Value("points.ransac_threshold_px", "px", "epipolar RANSAC threshold", Above(0.0),
+          PLUCKER_OPTION_MEMBER(frontend.points.ransac_threshold_px));
+  t.Value(SharedVisualOption("lines.max_segments"), PLUCKER_OPTION_MEMBER(frontend.max_segments));
+  t.Value("lines.min_segment_px", "px", "shorter segments are not tracked", AtLeast(0.0),
+          PLUCKER_OPTION_MEMBER(frontend.min_segment_px));
+  t.Value(SharedVisualOption("lines.detection_scale"),
+          PLUCKER_OPTION_MEMBER(frontend.detection_scale));
+  t.Value(SharedVisualOption("lines.flow_samples"),
+          PLUCKER_OPTION_MEMBER(frontend.lines.flow_samples));
+  t.Value("lines.max_lost_frames", "frames", "frames a line track may skip", Between(0, 1000),
+          PLUCKER_OPTION_MEMBER(frontend.lines.max_lost_frames));
+  return t.Take();
 }
 
 }  // namespace
+
+const char* const kUseLinesDoc = "lines: detected, tracked and in the window";
+const char* const kPriorOnPosesOnlyDoc =
+    "the poses-only prior (fast) instead of the prior on the landmarks";
+
+const OptionSpec& SharedVisualOption(const std::string& key) {
+  for (const OptionSpec& s : SharedSpecs())
+    if (key == s.key) return s;
+  throw std::logic_error("no shared visual option '" + key + "'");
+}
 
 VoConfig FeaturesVoConfig() {
   VoConfig c;
@@ -175,49 +148,31 @@ VoConfig ImageVoConfig() {
   return c;
 }
 
-std::vector<std::string> VoConfigKeys() {
-  std::vector<std::string> keys;
-  for (const Row& r : Table()) keys.push_back(r.key + ": " + r.doc);
-  return keys;
+const OptionsTable<VoConfig>& VoOptions() {
+  static const OptionsTable<VoConfig> table(
+      TableText{"vo",
+                "apps/plucker/vo_config.cc",
+                {{"window", "the sliding window, window/sliding_window_estimator.h"},
+                 {"init", "the monocular start and restart, odometry/monocular_initializer.h"},
+                 {"points", "point tracks of --images, vision/image_frontend.h"},
+                 {"lines", "segments of --images, vision/image_frontend.h"}},
+                {{"window.use_lines", "use_lines"}, {"lines.enabled", "use_lines"}}},
+      MakeRows());
+  return table;
+}
+
+std::string VoImageDefaultNote(const std::string& key) {
+  const OptionRow<VoConfig>* row = VoOptions().Find(key);
+  if (row == nullptr) return "";
+  const std::string features = row->get(FeaturesVoConfig()), images = row->get(ImageVoConfig());
+  return features == images ? "" : "images: " + images;
 }
 
 void ApplyVoConfigYaml(const std::string& text, const std::string& name, VoConfig* config) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(name + ": not valid YAML: " + e.what());
-  }
-  if (root.IsNull()) return;
-  if (!root.IsMap()) throw std::runtime_error(name + ": expected a mapping of options");
-  std::vector<std::pair<std::string, YAML::Node>> entries;
-  try {
-    Flatten(root, "", &entries);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(name + ": " + e.what());
-  }
-  for (const auto& [key, node] : entries) {
-    const Row* row = nullptr;
-    for (const Row& r : Table())
-      if (r.key == key) row = &r;
-    if (row == nullptr) throw std::runtime_error(name + ": unknown key '" + key + "'");
-    if (!node.IsScalar())
-      throw std::runtime_error(name + ": key '" + key + "': expected a scalar value");
-    try {
-      row->set(node, config);
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(name + ": key '" + key + "': " + e.what());
-    }
-  }
+  VoOptions().Apply(text, name, config);
 }
 
-void LoadVoConfig(const std::string& path, VoConfig* config) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read the config file");
-  std::stringstream text;
-  text << in.rdbuf();
-  ApplyVoConfigYaml(text.str(), path, config);
-}
+void LoadVoConfig(const std::string& path, VoConfig* config) { VoOptions().Load(path, config); }
 
 }  // namespace app
 }  // namespace plucker

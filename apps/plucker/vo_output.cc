@@ -16,7 +16,7 @@ const char* kVoStageNames[kNumVoStages] = {"read",  "points",          "detectio
                                            "lines", "tracking",        "triangulation",
                                            "solve", "marginalization", "other"};
 
-nlohmann::json WindowJson(const window::FrameResult& r) {
+nlohmann::json WindowJson(const window::WindowFrameResult& r) {
   return {{"keyframe", r.keyframe},
           {"tracked_points", r.tracked_points},
           {"tracked_lines", r.tracked_lines},

@@ -179,7 +179,7 @@ window::FrameInput FrameArg(double t, const py::handle& points, const py::handle
   return f;
 }
 
-py::dict WindowDict(const window::FrameResult& r) {
+py::dict WindowDict(const window::WindowFrameResult& r) {
   py::dict d;
   d["ok"] = r.ok;
   d["pnp_fallback"] = r.pnp_fallback;

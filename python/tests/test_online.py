@@ -180,15 +180,16 @@ IMU = {"gyro_noise_density": 1.7e-4, "accel_noise_density": 2e-3}
 
 
 def test_vio_options_are_the_config_keys():
-    plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window=8, use_lines=False,
-                                   estimate_time_offset=True, time_offset_s=0.002)
-    with pytest.raises(ValueError, match="unknown option 'windw'"):
-        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, windw=8)
-    with pytest.raises(ValueError, match="'window' has a value of the wrong type"):
-        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window="many")
-    with pytest.raises(ValueError, match="window"):
-        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window=1)
-    with pytest.raises(ValueError, match="point_stride"):
+    plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window={"size": 8}, use_lines=False,
+                                   time_offset={"estimate": True, "initial_s": 0.002})
+    with pytest.raises(ValueError, match="unknown key 'windw'"):
+        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, windw={"size": 8})
+    with pytest.raises(ValueError, match="key 'window.size': expected"):
+        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, window={"size": "many"})
+    with pytest.raises(ValueError, match="window.size"):
+        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, **{"window.size": 1})
+    # A key of the old flat spelling names its new one.
+    with pytest.raises(ValueError, match="renamed to 'input.point_stride'"):
         plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, point_stride=2)
     numpy_ints = dict(CAMERA, width=np.int64(640), height=np.int32(480))
     plucker.VisualInertialOdometry(numpy_ints, np.eye(4), IMU)

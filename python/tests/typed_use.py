@@ -35,7 +35,7 @@ def main() -> None:
           plucker.lidar_options()["features.min_range"], plucker.format_kitti_poses(odometry.poses))
     euroc = plucker.read_euroc("euroc")
     vio = plucker.VisualInertialOdometry(euroc["camera"], euroc["camera"]["T_b_c"],
-                                         euroc["imu_model"], window=8, use_lines=False)
+                                         euroc["imu_model"], window={"size": 8}, use_lines=False)
     vio.add_imu(euroc["imu"])
     vio.add_imu(10.0, [0.0, 0.0, 0.0], [0.0, 0.0, 9.81])
     image: npt.NDArray[np.uint8] = plucker.read_gray_image(euroc["images"][0])

@@ -13,7 +13,7 @@ namespace eval {
 
 namespace {
 
-ImuBias BiasOf(const sensor::BodyState& s) { return {s.gyro_bias, s.accel_bias}; }
+sensor::ImuBias BiasOf(const sensor::BodyState& s) { return s.bias; }
 
 // Index of the ground-truth state nearest to t, or -1 beyond the tolerance.
 int NearestState(const std::vector<sensor::BodyState>& gt, double t, double tolerance) {
@@ -49,8 +49,8 @@ ImuWindowError Compare(const ImuPreintegration& p, const sensor::BodyState& i,
   // by its joint covariance (15 dof) and, for the [R, v, p] part, by the preintegration's own.
   const ImuMeasurement m = MakeImuMeasurement(p, gravity_w);
   Eigen::Matrix<double, 6, 1> bias_i, bias_j;
-  bias_i << i.gyro_bias, i.accel_bias;
-  bias_j << j.gyro_bias, j.accel_bias;
+  bias_i << i.bias.gyro, i.bias.accel;
+  bias_j << j.bias.gyro, j.bias.accel;
   const Eigen::Matrix<double, 15, 1> r = ImuResidualT<double>(
       m, i.T_w_b, i.v_w.data(), bias_i.data(), j.T_w_b, j.v_w.data(), bias_j.data());
   e.chi2 = (m.sqrt_information * r).squaredNorm();

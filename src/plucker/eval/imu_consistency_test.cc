@@ -29,7 +29,7 @@ Recording Simulate() {
   for (std::size_t k = 0; k < r.imu.size(); k += 10) {  // 200 Hz / 10
     const double t = r.imu[k].t;
     r.ground_truth.push_back(
-        {t, traj.T_w_b(t), traj.velocity_w(t), r.imu[k].gyro_bias, r.imu[k].accel_bias});
+        {t, traj.T_w_b(t), traj.velocity_w(t), {r.imu[k].gyro_bias, r.imu[k].accel_bias}});
   }
   return r;
 }

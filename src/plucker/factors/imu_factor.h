@@ -32,7 +32,7 @@ struct ImuMeasurement {
   Eigen::Matrix3d delta_R;
   Eigen::Vector3d delta_v, delta_p;
   Eigen::Matrix3d d_R_d_bg, d_v_d_bg, d_v_d_ba, d_p_d_bg, d_p_d_ba;
-  ImuBias bias_lin;
+  sensor::ImuBias bias_lin;
   Eigen::Vector3d gravity_w;
   Matrix15d sqrt_information;
 };

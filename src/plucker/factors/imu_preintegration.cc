@@ -20,7 +20,7 @@ bool ValidNoise(const sensor::ImuModel& imu, double integration_sigma) {
 
 }  // namespace
 
-ImuPreintegration::ImuPreintegration(const ImuBias& bias_lin, const sensor::ImuModel& imu,
+ImuPreintegration::ImuPreintegration(const sensor::ImuBias& bias_lin, const sensor::ImuModel& imu,
                                      double integration_sigma)
     : bias_lin_(bias_lin), imu_(imu), integration_sigma_(integration_sigma) {
   if (!ValidNoise(imu, integration_sigma)) {
@@ -58,7 +58,7 @@ void ImuPreintegration::Integrate(double dt, const Eigen::Vector3d& gyro,
   Propagate(samples_.back());
 }
 
-void ImuPreintegration::Repropagate(const ImuBias& bias_lin) {
+void ImuPreintegration::Repropagate(const sensor::ImuBias& bias_lin) {
   if (!bias_lin.gyro.allFinite() || !bias_lin.accel.allFinite()) {
     throw std::invalid_argument("ImuPreintegration: non-finite bias");
   }
@@ -124,21 +124,21 @@ void ImuPreintegration::Propagate(const Sample& s) {
   dt_sum_ += dt;
 }
 
-Eigen::Matrix3d ImuPreintegration::CorrectedDeltaR(const ImuBias& bias) const {
+Eigen::Matrix3d ImuPreintegration::CorrectedDeltaR(const sensor::ImuBias& bias) const {
   return delta_R_ * ExpSO3Matrix<double>(d_R_d_bg_ * (bias.gyro - bias_lin_.gyro));
 }
 
-Eigen::Vector3d ImuPreintegration::CorrectedDeltaV(const ImuBias& bias) const {
+Eigen::Vector3d ImuPreintegration::CorrectedDeltaV(const sensor::ImuBias& bias) const {
   return delta_v_ + d_v_d_bg_ * (bias.gyro - bias_lin_.gyro) +
          d_v_d_ba_ * (bias.accel - bias_lin_.accel);
 }
 
-Eigen::Vector3d ImuPreintegration::CorrectedDeltaP(const ImuBias& bias) const {
+Eigen::Vector3d ImuPreintegration::CorrectedDeltaP(const sensor::ImuBias& bias) const {
   return delta_p_ + d_p_d_bg_ * (bias.gyro - bias_lin_.gyro) +
          d_p_d_ba_ * (bias.accel - bias_lin_.accel);
 }
 
-NavState ImuPreintegration::Predict(const NavState& i, const ImuBias& bias,
+NavState ImuPreintegration::Predict(const NavState& i, const sensor::ImuBias& bias,
                                     const Eigen::Vector3d& gravity_w) const {
   const double T = dt_sum_;
   NavState j;
@@ -161,7 +161,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingAt(const std::vector<sensor::
 }  // namespace
 
 ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
-                                      double t1, const ImuBias& bias,
+                                      double t1, const sensor::ImuBias& bias,
                                       const sensor::ImuModel& model) {
   if (!(t1 > t0) || imu.size() < 2 || t0 < imu.front().t || t1 > imu.back().t) {
     throw std::invalid_argument("PreintegrateSamples: the samples do not cover the interval");

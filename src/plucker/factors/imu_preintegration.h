@@ -39,11 +39,6 @@ namespace plucker {
 // below the accelerometer's contribution.
 constexpr double kDefaultIntegrationSigma = 1.0e-4;
 
-struct ImuBias {
-  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad / s
-  Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m / s^2
-};
-
 // Body state in the world w: T_w_b = (R_w_b, p_w), velocity v_w.
 struct NavState {
   Eigen::Matrix3d R_w_b = Eigen::Matrix3d::Identity();
@@ -58,7 +53,7 @@ class ImuPreintegration {
  public:
   // Throws std::invalid_argument for noise figures that are not finite and positive or a
   // non-finite bias. (imu.rate_hz is not used: every sample brings its own period.)
-  ImuPreintegration(const ImuBias& bias_lin, const sensor::ImuModel& imu,
+  ImuPreintegration(const sensor::ImuBias& bias_lin, const sensor::ImuModel& imu,
                     double integration_sigma = kDefaultIntegrationSigma);
 
   // Adds one sample held for dt seconds. Throws std::invalid_argument for dt <= 0 or non-finite
@@ -66,11 +61,11 @@ class ImuPreintegration {
   void Integrate(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
 
   // Integrates the stored samples again with a new linearisation point.
-  void Repropagate(const ImuBias& bias_lin);
+  void Repropagate(const sensor::ImuBias& bias_lin);
 
   double Dt() const { return dt_sum_; }
   int NumSamples() const { return static_cast<int>(samples_.size()); }
-  const ImuBias& BiasLinearisation() const { return bias_lin_; }
+  const sensor::ImuBias& BiasLinearisation() const { return bias_lin_; }
   const sensor::ImuModel& Imu() const { return imu_; }
   const Eigen::Matrix3d& DeltaR() const { return delta_R_; }
   const Eigen::Vector3d& DeltaV() const { return delta_v_; }
@@ -87,13 +82,13 @@ class ImuPreintegration {
   const Eigen::Matrix3d& d_p_d_ba() const { return d_p_d_ba_; }
 
   // The deltas corrected to first order for the bias `bias` (instead of the linearisation point).
-  Eigen::Matrix3d CorrectedDeltaR(const ImuBias& bias) const;
-  Eigen::Vector3d CorrectedDeltaV(const ImuBias& bias) const;
-  Eigen::Vector3d CorrectedDeltaP(const ImuBias& bias) const;
+  Eigen::Matrix3d CorrectedDeltaR(const sensor::ImuBias& bias) const;
+  Eigen::Vector3d CorrectedDeltaV(const sensor::ImuBias& bias) const;
+  Eigen::Vector3d CorrectedDeltaP(const sensor::ImuBias& bias) const;
 
   // State at j predicted from the state at i, the bias `bias` and gravity g_w:
   //   R_j = R_i DR,  v_j = v_i + g Dt + R_i Dv,  p_j = p_i + v_i Dt + 1/2 g Dt^2 + R_i Dp.
-  NavState Predict(const NavState& state_i, const ImuBias& bias,
+  NavState Predict(const NavState& state_i, const sensor::ImuBias& bias,
                    const Eigen::Vector3d& gravity_w) const;
 
  private:
@@ -104,7 +99,7 @@ class ImuPreintegration {
   void Reset();
   void Propagate(const Sample& s);
 
-  ImuBias bias_lin_;
+  sensor::ImuBias bias_lin_;
   sensor::ImuModel imu_;
   double integration_sigma_;
   std::vector<Sample> samples_;
@@ -121,7 +116,7 @@ class ImuPreintegration {
 // of second order (test ImuPreintegration.SampleStreamConvergesAtSecondOrder). Throws
 // std::invalid_argument when t1 <= t0 or the samples (increasing times) do not cover [t0, t1].
 ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
-                                      double t1, const ImuBias& bias,
+                                      double t1, const sensor::ImuBias& bias,
                                       const sensor::ImuModel& model);
 
 }  // namespace plucker

@@ -24,7 +24,7 @@ NavState TruthAt(const sim::Trajectory& traj, double t) {
 
 // Noise-free readings at rate_hz integrated over [t0, t0 + duration).
 ImuPreintegration Preintegrate(const sim::Trajectory& traj, double rate_hz, double t0,
-                               double duration, const ImuBias& bias) {
+                               double duration, const sensor::ImuBias& bias) {
   ImuPreintegration p(bias, sensor::ImuModel());
   const double dt = 1.0 / rate_hz;
   const int first = static_cast<int>(std::lround(t0 * rate_hz));
@@ -36,7 +36,7 @@ ImuPreintegration Preintegrate(const sim::Trajectory& traj, double rate_hz, doub
 }
 
 double PositionError(const ImuPreintegration& p, const sim::Trajectory& traj, double t0,
-                     const ImuBias& bias) {
+                     const sensor::ImuBias& bias) {
   const NavState j = p.Predict(TruthAt(traj, t0), bias, kGravity);
   return (j.p_w - traj.position_w(t0 + p.Dt())).norm();
 }
@@ -44,7 +44,7 @@ double PositionError(const ImuPreintegration& p, const sim::Trajectory& traj, do
 // Held samples (the reading at the start of every step): first order.
 TEST(ImuPreintegration, HeldSamplesConvergeAtFirstOrder) {
   const sim::Trajectory traj = TestTrajectory();
-  ImuBias bias;
+  sensor::ImuBias bias;
   bias.gyro << 0.01, -0.02, 0.005;
   bias.accel << 0.1, 0.05, -0.08;
   const double t0 = 2.0, duration = 1.0;
@@ -65,7 +65,7 @@ TEST(ImuPreintegration, HeldSamplesConvergeAtFirstOrder) {
 // The sample stream with the mean readings of each step: second order.
 TEST(ImuPreintegration, SampleStreamConvergesAtSecondOrder) {
   const sim::Trajectory traj = TestTrajectory();
-  ImuBias bias;
+  sensor::ImuBias bias;
   bias.gyro << 0.01, -0.02, 0.005;
   bias.accel << 0.1, 0.05, -0.08;
   const double t0 = 2.0, t1 = 3.0;
@@ -84,13 +84,13 @@ TEST(ImuPreintegration, SampleStreamConvergesAtSecondOrder) {
 TEST(ImuPreintegration, SampleStreamRefusesAnUncoveredInterval) {
   std::vector<sensor::ImuSample> imu(3);
   for (int k = 0; k < 3; ++k) imu[k].t = 0.01 * k;
-  EXPECT_THROW(PreintegrateSamples(imu, 0.0, 0.03, ImuBias(), sensor::ImuModel()),
+  EXPECT_THROW(PreintegrateSamples(imu, 0.0, 0.03, sensor::ImuBias(), sensor::ImuModel()),
                std::invalid_argument);
-  EXPECT_THROW(PreintegrateSamples(imu, 0.01, 0.01, ImuBias(), sensor::ImuModel()),
+  EXPECT_THROW(PreintegrateSamples(imu, 0.01, 0.01, sensor::ImuBias(), sensor::ImuModel()),
                std::invalid_argument);
   // A sub-interval cut at both ends: 0.005 .. 0.015 s.
-  EXPECT_NEAR(PreintegrateSamples(imu, 0.005, 0.015, ImuBias(), sensor::ImuModel()).Dt(), 0.01,
-              1e-15);
+  EXPECT_NEAR(PreintegrateSamples(imu, 0.005, 0.015, sensor::ImuBias(), sensor::ImuModel()).Dt(),
+              0.01, 1e-15);
 }
 
 std::vector<Eigen::Matrix<double, 6, 1>> RandomReadings(int n, std::uint64_t seed) {
@@ -104,7 +104,7 @@ std::vector<Eigen::Matrix<double, 6, 1>> RandomReadings(int n, std::uint64_t see
 }
 
 ImuPreintegration Integrate(const std::vector<Eigen::Matrix<double, 6, 1>>& readings,
-                            const ImuBias& bias) {
+                            const sensor::ImuBias& bias) {
   ImuPreintegration p(bias, sensor::ImuModel());
   for (const auto& s : readings) p.Integrate(0.005, s.head<3>(), s.tail<3>());
   return p;
@@ -113,14 +113,14 @@ ImuPreintegration Integrate(const std::vector<Eigen::Matrix<double, 6, 1>>& read
 // The bias Jacobians against central differences of a full re-integration at b +- h e_k.
 TEST(ImuPreintegration, BiasJacobiansMatchCentralDifferences) {
   const auto readings = RandomReadings(100, 3);
-  ImuBias b;
+  sensor::ImuBias b;
   b.gyro << 0.02, -0.01, 0.03;
   b.accel << 0.2, -0.1, 0.05;
   const ImuPreintegration p = Integrate(readings, b);
   const double h = 1e-6;
   int compared = 0;
   for (int k = 0; k < 6; ++k) {
-    ImuBias plus = b, minus = b;
+    sensor::ImuBias plus = b, minus = b;
     (k < 3 ? plus.gyro : plus.accel)(k % 3) += h;
     (k < 3 ? minus.gyro : minus.accel)(k % 3) -= h;
     const ImuPreintegration pp = Integrate(readings, plus), pm = Integrate(readings, minus);
@@ -145,8 +145,8 @@ TEST(ImuPreintegration, BiasJacobiansMatchCentralDifferences) {
 
 TEST(ImuPreintegration, RepropagateEqualsIntegratingAtTheNewBias) {
   const auto readings = RandomReadings(50, 5);
-  ImuPreintegration p = Integrate(readings, ImuBias());
-  ImuBias b;
+  ImuPreintegration p = Integrate(readings, sensor::ImuBias());
+  sensor::ImuBias b;
   b.gyro << 0.1, 0.0, -0.1;
   b.accel << 0.5, 0.2, 0.0;
   p.Repropagate(b);
@@ -163,7 +163,7 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   sensor::ImuModel noise;
   noise.gyro_noise_density = 2e-3;
   noise.accel_noise_density = 2e-2;
-  ImuPreintegration clean(ImuBias(), noise);
+  ImuPreintegration clean(sensor::ImuBias(), noise);
   for (const auto& s : readings) clean.Integrate(0.005, s.head<3>(), s.tail<3>());
   const Matrix9d info = clean.Covariance().inverse();
   std::mt19937_64 rng(11);
@@ -174,7 +174,7 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   Matrix9d scatter = Matrix9d::Zero();
   double mahalanobis = 0.0;
   for (int t = 0; t < trials; ++t) {
-    ImuPreintegration p(ImuBias(), noise);
+    ImuPreintegration p(sensor::ImuBias(), noise);
     for (const auto& s : readings) {
       const Eigen::Vector3d ng(n01(rng), n01(rng), n01(rng)), na(n01(rng), n01(rng), n01(rng));
       p.Integrate(0.005, s.head<3>() + sg * ng, s.tail<3>() + sa * na);
@@ -194,11 +194,11 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
 TEST(ImuPreintegration, RefusesBadInput) {
   sensor::ImuModel bad;
   bad.gyro_noise_density = 0.0;
-  EXPECT_THROW(ImuPreintegration(ImuBias(), bad), std::invalid_argument);
-  ImuBias nan_bias;
+  EXPECT_THROW(ImuPreintegration(sensor::ImuBias(), bad), std::invalid_argument);
+  sensor::ImuBias nan_bias;
   nan_bias.gyro(1) = std::nan("");
   EXPECT_THROW(ImuPreintegration(nan_bias, sensor::ImuModel()), std::invalid_argument);
-  ImuPreintegration p{ImuBias(), sensor::ImuModel()};
+  ImuPreintegration p{sensor::ImuBias(), sensor::ImuModel()};
   EXPECT_THROW(p.Integrate(0.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()),
                std::invalid_argument);
   EXPECT_THROW(p.Integrate(0.005, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero()),
@@ -219,7 +219,7 @@ TEST(ImuFactor, JacobianChecksPass) {
 // degrees of freedom (the Euler discretisation error only).
 TEST(ImuFactor, ResidualAtTheTruthIsSmall) {
   const sim::Trajectory traj = TestTrajectory();
-  ImuBias bias;
+  sensor::ImuBias bias;
   const double t0 = 4.0;
   const ImuPreintegration p = Preintegrate(traj, 1000.0, t0, 0.25, bias);
   std::unique_ptr<ceres::CostFunction> f(ImuFactor::Create(p, kGravity));

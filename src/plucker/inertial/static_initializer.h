@@ -77,7 +77,7 @@ struct StaticInitResult {
   Eigen::Vector3d gravity_b = Eigen::Vector3d::Zero();      // -|g| up_b
   Eigen::Matrix3d up_covariance = Eigen::Matrix3d::Zero();  // of up_b (rank 2)
   double tilt_sigma = 0.0;  // rad, the largest standard deviation of the up direction
-  ImuBias bias;
+  sensor::ImuBias bias;
   Eigen::Matrix3d gyro_bias_covariance = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d accel_bias_covariance = Eigen::Matrix3d::Zero();
 

@@ -193,8 +193,8 @@ TEST(StaticInitializer, EurocV101StillPeriod) {
   int n = 0;
   for (const sensor::BodyState& s : rec.ground_truth) {
     if (s.t < r.still_begin || s.t >= r.still_end) continue;
-    gt_gyro += s.gyro_bias;
-    gt_accel += s.accel_bias;
+    gt_gyro += s.bias.gyro;
+    gt_accel += s.bias.accel;
     gt_up += UpB(s.T_w_b.RotationMatrix());
     ++n;
   }

@@ -271,10 +271,12 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
   // World frame: gravity along -z, the first body frame's yaw zero.
   const Vector3d up_b0 = -(kf[0].R_c0_b.transpose() * g);
   r.R_w_c0 = GravityAlignedRotation(up_b0) * kf[0].R_c0_b.transpose();
+  double t = in.t0;
   for (int k = 0; k < n; ++k) {
-    r.velocities_w.push_back(r.R_w_c0 * x.segment<3>(3 * k));
+    if (k > 0) t += r.preintegrations[k - 1].Dt();
     const Vector3d p_c0_b = r.scale * kf[k].p_bar - kf[k].R_c0_b * t_b_c;
-    r.T_w_bk.emplace_back(r.R_w_c0 * kf[k].R_c0_b, r.R_w_c0 * p_c0_b);
+    r.states.push_back({t, SE3d(r.R_w_c0 * kf[k].R_c0_b, r.R_w_c0 * p_c0_b),
+                        r.R_w_c0 * x.segment<3>(3 * k), r.bias});
   }
   r.status = AlignmentStatus::kSuccess;
   return r;

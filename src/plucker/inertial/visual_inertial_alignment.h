@@ -23,6 +23,7 @@
 
 #include "plucker/factors/imu_preintegration.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/body_state.h"
 
 namespace plucker {
 namespace inertial {
@@ -48,6 +49,7 @@ struct AlignmentInput {
   // preintegrations[k] integrates the IMU from keyframe k to k + 1 (N - 1 of them), at any
   // linearisation bias (usually zero); copies are integrated again at the estimated gyro bias.
   std::vector<ImuPreintegration> preintegrations;
+  double t0 = 0.0;  // s, the time of keyframe 0 (the states' times are t0 plus the spans)
 };
 
 enum class AlignmentStatus {
@@ -69,10 +71,10 @@ struct AlignmentResult {
   double gravity_norm_unrefined = 0.0;  // |g_c0| after step (b)
   Eigen::Vector3d gravity_c0 = Eigen::Vector3d::Zero();  // refined, |g| = gravity_magnitude
   Eigen::Matrix3d R_w_c0 = Eigen::Matrix3d::Identity();  // gravity along -z in w
-  ImuBias bias;                                          // estimated
-  std::vector<Eigen::Vector3d> velocities_w;             // of the body at each keyframe
-  std::vector<SE3d> T_w_bk;                              // metric body poses in w
-  std::vector<ImuPreintegration> preintegrations;        // integrated again at `bias`
+  sensor::ImuBias bias;                                  // estimated
+  // The body at each keyframe: metric pose T_w_b and velocity in w, the estimated bias.
+  std::vector<sensor::BodyState> states;
+  std::vector<ImuPreintegration> preintegrations;  // integrated again at `bias`
   // Root mean square of the whitened residuals of the final linear system, its size.
   double whitened_rms = 0.0;
   int rows = 0, unknowns = 0;

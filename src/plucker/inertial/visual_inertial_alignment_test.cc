@@ -70,7 +70,7 @@ Scenario MakeScenario(const sim::Trajectory& traj, const ScenarioOptions& so) {
     s.v_c0.push_back(R_c0_w * traj.velocity_w(t));
     if (k > 0) {
       s.input.preintegrations.push_back(
-          PreintegrateSamples(imu, t - so.keyframe_period, t, ImuBias{}, io.model));
+          PreintegrateSamples(imu, t - so.keyframe_period, t, sensor::ImuBias{}, io.model));
     }
   }
   return s;
@@ -79,7 +79,7 @@ Scenario MakeScenario(const sim::Trajectory& traj, const ScenarioOptions& so) {
 double VelocityError(const AlignmentResult& r, const Scenario& s) {
   double worst = 0.0;
   for (std::size_t k = 0; k < s.v_c0.size(); ++k) {
-    const Eigen::Vector3d v_c0 = r.R_w_c0.transpose() * r.velocities_w[k];
+    const Eigen::Vector3d v_c0 = r.R_w_c0.transpose() * r.states[k].v_w;
     worst = std::max(worst, (v_c0 - s.v_c0[k]).norm());
   }
   return worst;
@@ -118,13 +118,13 @@ TEST(VisualInertialAlignment, TheWorldFrameHasGravityAlongMinusZAndZeroYaw) {
   const AlignmentResult r = AlignVisualInertial(s.input);
   ASSERT_TRUE(r.success()) << r.message;
   EXPECT_LT((r.R_w_c0 * r.gravity_c0 - kGravityW).norm(), 1e-9);
-  const Eigen::Matrix3d R_w_b0 = r.T_w_bk[0].RotationMatrix();
+  const Eigen::Matrix3d R_w_b0 = r.states[0].T_w_b.RotationMatrix();
   EXPECT_NEAR(R_w_b0(1, 0), 0.0, 1e-12);
   // Roll and pitch of the body agree with the truth (the simulated world has gravity along -z).
   EXPECT_LT(AngleBetween(R_w_b0.transpose().col(2), traj.R_w_b(1.0).transpose().col(2)),
             0.02 * kDeg);
   // Metric distances between body positions agree with the truth.
-  const double d_est = (r.T_w_bk[9].translation() - r.T_w_bk[0].translation()).norm();
+  const double d_est = (r.states[9].T_w_b.translation() - r.states[0].T_w_b.translation()).norm();
   const double d_true = (traj.position_w(2.8) - traj.position_w(1.0)).norm();
   EXPECT_NEAR(d_est / d_true, 1.0, 2e-3);
 }

@@ -161,8 +161,8 @@ std::vector<sensor::BodyState> ParseEurocGroundTruthCsv(const std::string& text,
                s.t = t;
                s.T_w_b = SE3d(q, Eigen::Vector3d(v[0], v[1], v[2]));
                s.v_w = Eigen::Vector3d(v[7], v[8], v[9]);
-               s.gyro_bias = Eigen::Vector3d(v[10], v[11], v[12]);
-               s.accel_bias = Eigen::Vector3d(v[13], v[14], v[15]);
+               s.bias.gyro = Eigen::Vector3d(v[10], v[11], v[12]);
+               s.bias.accel = Eigen::Vector3d(v[13], v[14], v[15]);
                states.push_back(s);
              });
   return states;

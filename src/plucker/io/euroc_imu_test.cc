@@ -43,8 +43,8 @@ TEST(EurocImu, ParsesGroundTruthWithQuaternionWFirst) {
   EXPECT_NEAR(g[0].T_w_b.rotation().x(), 1.0, 1e-15);
   EXPECT_EQ(g[0].T_w_b.translation(), Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(g[0].v_w, Eigen::Vector3d(0.1, 0.2, 0.3));
-  EXPECT_EQ(g[0].gyro_bias, Eigen::Vector3d(0.01, 0.02, 0.03));
-  EXPECT_EQ(g[0].accel_bias, Eigen::Vector3d(0.1, 0.2, 0.3));
+  EXPECT_EQ(g[0].bias.gyro, Eigen::Vector3d(0.01, 0.02, 0.03));
+  EXPECT_EQ(g[0].bias.accel, Eigen::Vector3d(0.1, 0.2, 0.3));
 }
 
 TEST(EurocImu, ParsesTheNoiseFigures) {

@@ -113,12 +113,6 @@ void DeskewScanPoints(const SE3d& T_s_start_s_end, double period, ScanFeatures* 
   DeskewPoints(T_s_start_s_end, period, f->plane_times, &f->planes);
 }
 
-std::unique_ptr<ceres::LossFunction> MakeLoss(RobustLoss loss, double scale) {
-  if (loss == RobustLoss::kHuber) return std::make_unique<ceres::HuberLoss>(scale);
-  if (loss == RobustLoss::kCauchy) return std::make_unique<ceres::CauchyLoss>(scale);
-  return nullptr;
-}
-
 // The degeneracy criterion of options o (the information ceiling is in units of plane_sigma^-2).
 DegeneracyCriterion CriterionFor(const LidarOdometryOptions& o) {
   DegeneracyCriterion criterion;
@@ -152,7 +146,8 @@ bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, b
 
 class LidarOdometry::Impl {
  public:
-  explicit Impl(const LidarOdometryOptions& o) : loss(MakeLoss(o.loss, o.loss_scale)) {
+  explicit Impl(const LidarOdometryOptions& o)
+      : loss(factors::MakeLossFunction(o.loss, o.loss_scale)) {
     if (o.num_threads > 1) arena = std::make_unique<tbb::task_arena>(o.num_threads);
     if (o.sensor != "auto") sensor = sensor::LidarModelFromName(o.sensor);
   }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "plucker/factors/robust_loss.h"
 #include "plucker/geometry/se3.h"
 #include "plucker/lidar/degeneracy.h"
 #include "plucker/lidar/features.h"
@@ -35,7 +36,6 @@ enum class RingSource {
 };
 
 enum class DeskewMode { kAuto, kOn, kOff };  // kAuto: on when the scan has per-point time
-enum class RobustLoss { kHuber, kCauchy, kNone };
 
 struct LidarOdometryOptions {
   FeatureOptions features;
@@ -51,7 +51,7 @@ struct LidarOdometryOptions {
   double plane_max_residual = 0.05;          // m; every neighbour within this of the plane
   double edge_sigma = 0.5;                   // m; residual scale of edges (view-dependent)
   double plane_sigma = 0.05;                 // m; residual scale of planes
-  RobustLoss loss = RobustLoss::kHuber;
+  factors::RobustLoss loss = factors::RobustLoss::kHuber;
   double loss_scale = 2.0;  // in sigma units (Huber/Cauchy parameter)
   bool use_edges = true;
   int association_rounds = 2;              // re-association rounds per scan (minimum)

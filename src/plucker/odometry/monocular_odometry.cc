@@ -149,7 +149,7 @@ struct MonocularOdometry::Impl {
     // own prediction would repeat the whole a-b motion).
     if (i == b + 1 && b - 1 > a && records[b - 1].has_pose)
       input.T_w_c_guess = pose(b) * (pose(b - 1).Inverse() * pose(b));
-    const window::FrameResult r = estimator->AddFrame(input, observer);
+    const window::WindowFrameResult r = estimator->AddFrame(input, observer);
     const bool finite =
         r.T_w_c.translation().allFinite() && r.T_w_c.rotation().coeffs().allFinite();
     const bool ok = r.ok && finite;

@@ -68,8 +68,8 @@ struct MonocularFrameResult {
   MonocularStatus status = MonocularStatus::kInitializing;
   bool has_pose = false;  // T_w_c localised (else the last pose known, identity before any)
   SE3d T_w_c;
-  std::optional<window::FrameResult> window;  // the window's statistics if tracked now
-  int observed_points = 0;                    // the frame's input
+  std::optional<window::WindowFrameResult> window;  // the window's statistics if tracked now
+  int observed_points = 0;                          // the frame's input
   int observed_segments = 0;
   int caught_up_frames = 0;  // earlier buffered frames tracked in this call (after a start)
 };
@@ -91,7 +91,7 @@ struct MonocularFrameRecord {
   SE3d T_w_c;
   bool keyframe = false;
   int map = -1;  // index into Maps()
-  std::optional<window::FrameResult> window;
+  std::optional<window::WindowFrameResult> window;
 };
 
 // One start (the first map, or a re-initialisation).

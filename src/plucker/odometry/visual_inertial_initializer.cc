@@ -124,7 +124,8 @@ bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::Fram
   start.method = "static";
   start.first = a;
   start.second = a + 1;
-  window::InertialState st;
+  sensor::BodyState st;
+  st.t = frames[a].time;
   st.T_w_b = SE3d(still.R_w_b, Eigen::Vector3d::Zero());
   st.bias = still.bias;
   start.state_first = start.state_second = st;
@@ -137,7 +138,8 @@ bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::Fram
 bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInput>& frames,
                                               const std::vector<sensor::ImuSample>& imu) {
   const double ti = frames[i].time, tj = frames[j].time;
-  const Eigen::Matrix3d R_bi_bj = PreintegrateSamples(imu, ti, tj, ImuBias(), calib.imu).DeltaR();
+  const Eigen::Matrix3d R_bi_bj =
+      PreintegrateSamples(imu, ti, tj, sensor::ImuBias(), calib.imu).DeltaR();
   const Eigen::Matrix3d R_b_c = calib.T_b_c.RotationMatrix();
   const Eigen::Matrix3d R_cj_ci = R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
   window::TwoViewOptions two_view;
@@ -148,7 +150,7 @@ bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInp
   if (!tv.ok) return false;
   window::SlidingWindowOptions vo = WindowOptions(o, calib);
   vo.inertial.reset();
-  vo.max_keyframe_interval_s = o.max_keyframe_interval_s;  // short IMU spans for the alignment
+  vo.max_keyframe_interval_s = o.max_imu_factor_span_s;  // short IMU spans for the alignment
   vo.window_size = o.init_max_keyframes + 2;  // nothing is marginalized before the alignment
   run = std::make_unique<window::SlidingWindowEstimator>(calib.camera.K, vo);
   const window::InitializationResult init =
@@ -170,11 +172,13 @@ bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::Fra
                                                    const std::vector<sensor::ImuSample>& imu) {
   inertial::AlignmentInput align;
   align.T_b_c = calib.T_b_c;
+  align.t0 = frames[keyframes.front()].time;
   const std::vector<SE3d> kf = run->KeyframePoses();
   for (const SE3d& T : kf) align.T_c0_ck.push_back(kf.front().Inverse() * T);
   for (std::size_t k = 0; k + 1 < keyframes.size(); ++k) {
-    align.preintegrations.push_back(PreintegrateSamples(
-        imu, frames[keyframes[k]].time, frames[keyframes[k + 1]].time, ImuBias(), calib.imu));
+    align.preintegrations.push_back(PreintegrateSamples(imu, frames[keyframes[k]].time,
+                                                        frames[keyframes[k + 1]].time,
+                                                        sensor::ImuBias(), calib.imu));
   }
   inertial::InitializationChoiceOptions choice_options;
   choice_options.min_keyframes = o.init_min_keyframes;
@@ -205,15 +209,16 @@ bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::Fra
   start.method = "dynamic";
   start.first = keyframes.front();
   start.second = keyframes.back();
-  start.state_first = {a.T_w_bk.front(), a.velocities_w.front(), a.bias};
-  start.state_second = {a.T_w_bk.back(), a.velocities_w.back(), a.bias};
+  start.state_first = a.states.front();
+  start.state_second = a.states.back();
   for (std::size_t k = 0; k + 1 < keyframes.size(); ++k) {
     start.candidates.push_back(keyframes[k]);
-    start.candidate_states.push_back({a.T_w_bk[k], a.velocities_w[k], a.bias});
+    start.candidate_states.push_back(a.states[k]);
   }
   start.T_w_b.assign(f + 1, std::nullopt);
   for (int g = i; g <= f; ++g) {
-    start.T_w_b[g] = AlignedBodyPose(T_vo[i], T_vo[g], a.scale, a.T_w_bk.front(), calib.T_b_c);
+    start.T_w_b[g] =
+        AlignedBodyPose(T_vo[i], T_vo[g], a.scale, a.states.front().T_w_b, calib.T_b_c);
   }
   return true;
 }
@@ -257,7 +262,7 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
       Restart();
       continue;
     }
-    const window::FrameResult r = run->AddFrame(frames[f]);
+    const window::WindowFrameResult r = run->AddFrame(frames[f]);
     if (!r.ok) {
       Restart();
       continue;

@@ -31,11 +31,11 @@ namespace odometry {
 struct VioStart {
   std::string method;  // static | dynamic
   int first = -1, second = -1;
-  window::InertialState state_first, state_second;
+  sensor::BodyState state_first, state_second;
   // Earlier keyframes (dynamic), with their states: the window starts on them (or on the
   // earliest that shares enough landmarks with the second).
   std::vector<int> candidates;
-  std::vector<window::InertialState> candidate_states;
+  std::vector<sensor::BodyState> candidate_states;
   std::vector<std::optional<SE3d>> T_w_b;  // frames <= second
 };
 

@@ -19,15 +19,17 @@ const char* const kOnlineTrajectoryNote =
 
 std::string VisualInertialOdometryOptions::Problem() const {
   if (window < 2 || iterations < 1 || init_min_keyframes < 4 ||
-      init_max_keyframes < init_min_keyframes || !(max_keyframe_interval_s > 0.0) ||
+      init_max_keyframes < init_min_keyframes || !(max_imu_factor_span_s > 0.0) ||
       !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
       !(init_gyro_bias_bound >= 0.0) || !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
-      !(point_min_distance_px > 0.0) || line_max_segments < 0 ||
-      !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 2) {
-    return "an option is out of range (point_stride >= 1, window >= 2, "
-           "init_min_keyframes >= 4, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
-           "0 < line_detection_scale <= 1, line_flow_samples >= 2)";
+      !(point_min_distance_px >= 0.0) || line_max_segments < 0 ||
+      !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 0 ||
+      line_flow_samples > 1000) {
+    return "an option is out of range (window >= 2, init_min_keyframes >= 4, init_max_keyframes "
+           ">= init_min_keyframes, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
+           "point_min_distance_px >= 0, 0 < line_detection_scale <= 1, line_flow_samples in "
+           "[0, 1000])";
   }
   if (!(extrinsic_rotation_sigma > 0.0) || !(extrinsic_translation_sigma > 0.0) ||
       !(extrinsic_min_rotation_deg >= 0.0)) {
@@ -103,7 +105,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   inertial.accel_bias_prior_sigma = c.accel_bias_prior_sigma;
   inertial.velocity_prior_sigma = c.velocity_prior_sigma;
   inertial.tracking_velocity_sigma = c.tracking_velocity_sigma;
-  inertial.max_keyframe_interval_s = c.max_keyframe_interval_s;
+  inertial.max_imu_factor_span_s = c.max_imu_factor_span_s;
   inertial.estimate_extrinsic = c.estimate_extrinsic;
   inertial.extrinsic_rotation_sigma = c.extrinsic_rotation_sigma;
   inertial.extrinsic_translation_sigma = c.extrinsic_translation_sigma;
@@ -176,7 +178,7 @@ VioFrameRecord VisualInertialOdometry::Impl::Track(int index, const window::Fram
   rec.frame = index;
   rec.time = frame.time;
   rec.kind = VioFrameKind::kWindow;
-  window::FrameResult r;
+  window::WindowFrameResult r;
   try {
     r = estimator->AddFrame(frame, observer);
   } catch (const std::invalid_argument& e) {  // the IMU does not cover the frame
@@ -210,7 +212,7 @@ void VisualInertialOdometry::Impl::StartWindow() {
   window::InitializationResult init;
   if (start.method == "dynamic") {
     std::vector<window::FrameInput> kf_frames;
-    std::vector<window::InertialState> states;
+    std::vector<sensor::BodyState> states;
     const int first = std::max(0, static_cast<int>(start.candidates.size()) + 1 - o.window);
     for (int k = first; k < static_cast<int>(start.candidates.size()); ++k) {
       start_keyframes.push_back(start.candidates[k]);
@@ -253,7 +255,7 @@ void VisualInertialOdometry::Impl::StartWindow() {
     if (f < static_cast<int>(start.T_w_b.size()) && start.T_w_b[f]) rec.T_w_b = start.T_w_b[f];
     rec.kind = rec.T_w_b ? VioFrameKind::kInitialization : VioFrameKind::kBeforeInitialization;
   }
-  const std::vector<window::InertialState> first_states = estimator->KeyframeStates();
+  const std::vector<sensor::BodyState> first_states = estimator->KeyframeStates();
   if (first_states.size() != start_keyframes.size() || start_keyframes.front() != start.first)
     start_keyframes = {start.first, start.second};
   for (std::size_t k = 0; k < start_keyframes.size(); ++k) {
@@ -321,7 +323,7 @@ VioFrameResult VisualInertialOdometry::Impl::Initialize(bool end,
     result.v_w = last.window->state.v_w;
     result.bias = last.window->state.bias;
   } else {
-    const std::vector<window::InertialState> states = estimator->KeyframeStates();
+    const std::vector<sensor::BodyState> states = estimator->KeyframeStates();
     result.v_w = states.back().v_w;
     result.bias = states.back().bias;
   }

@@ -53,7 +53,7 @@ struct VisualInertialOdometryOptions {
   double keyframe_parallax_px = 20.0;
   int min_tracked = 20;            // a keyframe when fewer landmarks are tracked
   double min_tracked_ratio = 0.3;  // ... or fewer than this share of the frame's observations
-  double max_keyframe_interval_s = 1.0;
+  double max_imu_factor_span_s = 1.0;
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
   double velocity_prior_sigma = 0.1;
@@ -132,8 +132,8 @@ struct VioFrameRecord {
   VioStatus status = VioStatus::kInitializing;  // kind == kWindow: the window's outcome
   std::optional<SE3d> T_w_b;
   bool keyframe = false;
-  std::optional<window::FrameResult> window;  // kind == kWindow and not skipped
-  std::string skip_reason;                    // kSkippedNoImu
+  std::optional<window::WindowFrameResult> window;  // kind == kWindow and not skipped
+  std::string skip_reason;                          // kSkippedNoImu
 };
 std::string ToString(const VioFrameRecord& record);  // the JSON status string
 
@@ -143,9 +143,9 @@ struct VioFrameResult {
   VioStatus status = VioStatus::kInitializing;
   std::optional<SE3d> T_w_b;  // online pose (none while initialising or skipped)
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
-  ImuBias bias;
-  std::optional<window::FrameResult> window;       // this frame's window statistics
-  int observed_points = 0, observed_segments = 0;  // the frame's input
+  sensor::ImuBias bias;
+  std::optional<window::WindowFrameResult> window;  // this frame's window statistics
+  int observed_points = 0, observed_segments = 0;   // the frame's input
   // Frames whose refined records became final in this call, oldest first (at the start: all the
   // buffered frames; then this frame).
   std::vector<VioFrameRecord> settled;
@@ -168,7 +168,7 @@ struct VioInitialization {
   bool done = false;
   std::string method;  // static | dynamic
   int first = -1, second = -1;
-  window::InertialState state_first;
+  sensor::BodyState state_first;
   std::vector<VioInitEvent> events;
 };
 

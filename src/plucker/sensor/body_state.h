@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/imu.h"
 
 namespace plucker {
 namespace sensor {
@@ -13,9 +14,8 @@ namespace sensor {
 struct BodyState {
   double t = 0.0;  // s
   SE3d T_w_b;
-  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();         // m/s, world frame
-  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   // rad/s
-  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  // m/s^2
+  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();  // m/s, world frame
+  ImuBias bias;
 };
 
 }  // namespace sensor

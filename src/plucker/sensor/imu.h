@@ -17,6 +17,12 @@ struct ImuModel {
   double accel_bias_random_walk = 3.0e-3;  // m / s^3 / sqrt(Hz)
 };
 
+// The IMU biases: gyro + gyro_bias and accel + accel_bias are what the sensor reports.
+struct ImuBias {
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad / s
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m / s^2
+};
+
 struct ImuSample {
   double t = 0.0;                                        // s
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();        // rad/s, body frame

@@ -23,7 +23,7 @@ namespace verify {
 namespace {
 
 ImuPreintegration MakePreintegration(Rng& rng, int i) {
-  ImuBias bias_lin;
+  sensor::ImuBias bias_lin;
   bias_lin.gyro = RandomVector(rng, 0.01);
   bias_lin.accel = RandomVector(rng, 0.1);
   sensor::ImuModel noise;
@@ -49,13 +49,13 @@ ImuPreintegration MakePreintegration(Rng& rng, int i) {
 ImuFactorSample MakeImuFactorSample(Rng& rng, int i) {
   ImuFactorSample c;
   c.preintegration = MakePreintegration(rng, i);
-  const ImuBias& lin = c.preintegration.BiasLinearisation();
+  const sensor::ImuBias& lin = c.preintegration.BiasLinearisation();
   NavState s_i;
   const SE3d T_i = i == 0 ? SE3d() : RandomPose(rng, 10.0);
   s_i.R_w_b = T_i.RotationMatrix();
   s_i.p_w = T_i.translation();
   s_i.v_w = i == 0 ? Eigen::Vector3d::Zero() : RandomVector(rng, 3.0);
-  ImuBias b_i = lin;
+  sensor::ImuBias b_i = lin;
   if (i != 5) {
     b_i.gyro += RandomVector(rng, i == 3 ? 0.05 : 1e-3);
     b_i.accel += RandomVector(rng, i == 3 ? 0.5 : 1e-2);

@@ -15,7 +15,7 @@ namespace verify {
 const Eigen::Vector3d kImuSampleGravity(0.0, 0.0, -9.81);
 
 struct ImuFactorSample {
-  ImuPreintegration preintegration{ImuBias(), sensor::ImuModel()};
+  ImuPreintegration preintegration{sensor::ImuBias(), sensor::ImuModel()};
   SE3d T_w_b_i, T_w_b_j;
   Eigen::Vector3d v_i, v_j;
   Eigen::Matrix<double, 6, 1> bias_i, bias_j;  // [b_g, b_a]

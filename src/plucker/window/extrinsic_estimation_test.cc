@@ -77,7 +77,7 @@ ExtrinsicRun RunWindow(const sim::CameraSimulation& s, const SE3d& T_b_c_given, 
     est.push_back(s.T_w_b_gt[i]);
   }
   for (std::size_t i = second + 1; i < in.size(); ++i) {
-    const FrameResult r = estimator.AddFrame(in[i]);
+    const WindowFrameResult r = estimator.AddFrame(in[i]);
     if (r.extrinsic_free && run.freed_at < 0) run.freed_at = static_cast<int>(i);
     if (r.marginalized_keyframes && run.first_prior_dimension < 0)
       run.first_prior_dimension = r.prior_dimension;

@@ -24,12 +24,12 @@ bool RetainLinePoses(const Impl& w) {
 
 class LandmarkPrior final : public MarginalizationStrategy {
  public:
-  void MarginalizeOldest(Impl& w, FrameResult* result) const override;
+  void MarginalizeOldest(Impl& w, WindowFrameResult* result) const override;
   // The prior keeps landmarks in the reduced system: sparse.
   ceres::LinearSolverType WindowLinearSolver() const override { return ceres::SPARSE_SCHUR; }
 };
 
-void LandmarkPrior::MarginalizeOldest(Impl& w, FrameResult* result) const {
+void LandmarkPrior::MarginalizeOldest(Impl& w, WindowFrameResult* result) const {
   Frame* f0 = w.keyframes.front().get();
   std::set<int> points_kept, lines_kept;  // observed by a remaining keyframe
   for (std::size_t k = 1; k < w.keyframes.size(); ++k) {

@@ -30,7 +30,7 @@ class MarginalizationStrategy {
   // Moves the oldest keyframe of `window` into its prior and drops it (with the landmarks that
   // leave), filling the marginalization statistics of `result`.
   virtual void MarginalizeOldest(SlidingWindowEstimator::Impl& window,
-                                 FrameResult* result) const = 0;
+                                 WindowFrameResult* result) const = 0;
   // The linear solver of the window solve with this strategy's prior.
   virtual ceres::LinearSolverType WindowLinearSolver() const = 0;
 };

@@ -40,7 +40,7 @@ void ConsumeTracks(Impl& w, const std::vector<int>& point_ids, const std::vector
 
 class PosesOnlyPrior final : public MarginalizationStrategy {
  public:
-  void MarginalizeOldest(Impl& w, FrameResult* result) const override;
+  void MarginalizeOldest(Impl& w, WindowFrameResult* result) const override;
   // Every landmark is eliminated and the reduced system (poses, and velocities and biases in the
   // inertial mode) is small: dense, its Cholesky factorization costs less than SuiteSparse's
   // symbolic work (corridor, 600 frames: the linear solver 2.5 s -> 1.2 s over the run, the same
@@ -51,7 +51,7 @@ class PosesOnlyPrior final : public MarginalizationStrategy {
 // PriorBlocks::kPoses: see the option. Landmarks of k0 whose track has ended are eliminated one
 // by one into small priors on their observers' poses (at the first estimates), then k0's pose
 // is eliminated from those, its pose prior and the previous prior.
-void PosesOnlyPrior::MarginalizeOldest(Impl& w, FrameResult* result) const {
+void PosesOnlyPrior::MarginalizeOldest(Impl& w, WindowFrameResult* result) const {
   Frame* f0 = w.keyframes.front().get();
   const Frame* newest = w.keyframes.back().get();
   std::set<int> points_newest, lines_newest, points_kept, lines_kept;

@@ -29,10 +29,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     throw std::invalid_argument("SlidingWindowEstimator: max_keyframe_interval_s < 0");
   impl_->K = K;
   impl_->opt = options;
-  if (options.loss == LossKind::kHuber)
-    impl_->loss = std::make_unique<ceres::HuberLoss>(options.loss_scale);
-  if (options.loss == LossKind::kCauchy)
-    impl_->loss = std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+  impl_->loss = factors::MakeLossFunction(options.loss, options.loss_scale);
   if (options.inertial && options.inertial->estimate_extrinsic &&
       !(options.inertial->extrinsic_rotation_sigma > 0.0 &&
         options.inertial->extrinsic_translation_sigma > 0.0 &&
@@ -66,13 +63,13 @@ bool SlidingWindowEstimator::initialized() const { return !impl_->keyframes.empt
 
 // Predict, track, decide; a keyframe is then triangulated from, solved and the oldest keyframe
 // marginalized (the file comment of sliding_window_estimator.h).
-FrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
-                                             const StageObserver& observer) {
+WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
+                                                   const StageObserver& observer) {
   Impl& m = *impl_;
   auto stage = [&observer](WindowStage s) {
     if (observer) observer(s);
   };
-  FrameResult result;
+  WindowFrameResult result;
   if (m.keyframes.empty())
     throw std::logic_error("SlidingWindowEstimator::AddFrame before Initialize");
   // Predict (throws before any change when the IMU samples do not cover the frame).

@@ -52,27 +52,15 @@
 // integrated again when a bias moves far from its linearisation point). A frame's pose is
 // predicted by the IMU from the newest keyframe's state and then tracked visually; when too
 // little is tracked the IMU prediction is the result. A keyframe is also taken when
-// max_keyframe_interval_s has passed (the IMU factors stay short, a standing body keeps its
-// window). Marginalizing the oldest keyframe puts its IMU factor to the successor, its priors and
-// its visual observations into the prior (FEJ as above). Gauge: position and yaw (4-DoF); until
-// the first marginalization the oldest pose is held. The first keyframe carries priors on its
-// biases and velocity from the initialisation.
+// InertialOptions::max_imu_factor_span_s has passed (the IMU factors stay short, a standing body
+// keeps its window). Marginalizing the oldest keyframe puts its IMU factor to the successor, its
+// priors and its visual observations into the prior (FEJ as above). Gauge: position and yaw
+// (4-DoF); until the first marginalization the oldest pose is held. The first keyframe carries
+// priors on its biases and velocity from the initialisation.
 //
 // Code layout: this header is the whole public API; the implementation is split by
 // responsibility over the window_*.cc files and the two marginalization strategies, mapped in
 // window_internal.h (docs/vo.md, "Code layout").
-//
-// Renames proposed for after the odometry pipelines land (issue 25; not applied yet, callers
-// are written against these names now):
-//   InertialOptions::max_keyframe_interval_s -> max_imu_factor_span_s (a keyframe at the latest
-//     this long after the previous one, tracked or not; SlidingWindowOptions'
-//     max_keyframe_interval_s stays: the visual policy, only for tracked frames, 0 = off).
-//   window::FrameResult -> window::WindowFrameResult (lidar::FrameResult is the LiDAR one).
-//   window::LossKind {kTrivial, kHuber, kCauchy} and lidar::RobustLoss {kHuber, kCauchy, kNone}
-//     -> one factors::RobustLoss {kNone, kHuber, kCauchy} with the loss function made from it.
-//   window::InertialState, sensor::BodyState and the alignment's parallel T_w_bk / velocities_w /
-//     bias -> sensor::BodyState {t, T_w_b, v_w, ImuBias bias} (ImuBias moved to sensor/imu.h),
-//     the alignment returning std::vector<sensor::BodyState>.
 #pragma once
 
 #include <Eigen/Core>
@@ -85,17 +73,17 @@
 #include "plucker/factors/anchored_line_factor.h"
 #include "plucker/factors/imu_preintegration.h"
 #include "plucker/factors/marginalization.h"
+#include "plucker/factors/robust_loss.h"
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/line_triangulation.h"
 #include "plucker/geometry/point_triangulation.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/body_state.h"
 #include "plucker/sensor/camera_observations.h"
 #include "plucker/sensor/imu.h"
 
 namespace plucker {
 namespace window {
-
-enum class LossKind { kTrivial, kHuber, kCauchy };
 
 // The visual-inertial mode (see the file comment).
 struct InertialOptions {
@@ -139,7 +127,9 @@ struct InertialOptions {
   // its linearisation point.
   double repropagate_gyro_bias = 2e-3;   // rad/s
   double repropagate_accel_bias = 0.05;  // m/s^2
-  double max_keyframe_interval_s = 1.0;
+  // A keyframe at the latest this long after the previous one, tracked or not (the IMU factors
+  // stay short). SlidingWindowOptions::max_keyframe_interval_s is the visual policy.
+  double max_imu_factor_span_s = 1.0;
   // A frame the caller marks stationary (FrameInput::stationary: no image motion) keeps the
   // newest keyframe's pose instead of the IMU prediction, and as a keyframe gets a zero-motion
   // factor to the previous keyframe (same pose, zero velocity) with these standard deviations:
@@ -176,7 +166,7 @@ struct SlidingWindowOptions {
   // is preintegrated over short spans (the inertial mode has its own, InertialOptions).
   double max_keyframe_interval_s = 0.0;
   // Robust loss on the reprojection residuals (pixels, whitened by the sigmas below).
-  LossKind loss = LossKind::kHuber;
+  factors::RobustLoss loss = factors::RobustLoss::kHuber;
   double loss_scale = 1.5;  // in units of sigma
   double point_sigma_px = 1.0;
   double line_sigma_px = 1.0;
@@ -247,13 +237,6 @@ struct SlidingWindowOptions {
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
 };
 
-// A body state of the visual-inertial mode.
-struct InertialState {
-  SE3d T_w_b;
-  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
-  ImuBias bias;
-};
-
 // One frame's input: the observations with their track ids (sensor/camera_observations.h, from
 // the simulator, a features folder or an image front end alike; `frame` fields are ignored) and
 // optional pose information (the hooks for the IMU: a prediction and a prior).
@@ -269,7 +252,7 @@ struct FrameInput {
   bool stationary = false;  // inertial mode: the caller saw no image motion (see InertialOptions)
 };
 
-struct FrameResult {
+struct WindowFrameResult {
   bool ok = false;            // false: too little to track; T_w_c is the prediction
   bool pnp_fallback = false;  // tracking from the prediction failed and PnP RANSAC was tried
   SE3d T_w_c;
@@ -305,7 +288,7 @@ struct FrameResult {
   // velocity and the newest keyframe's bias), whether the pose is the IMU prediction alone
   // (too little tracked), and the whitened squared residual of the newest IMU factor after the
   // solve (15 degrees of freedom; 0 for a non-keyframe).
-  InertialState state;
+  sensor::BodyState state;
   bool imu_only = false;
   bool stationary = false;  // the caller's flag, believed (InertialOptions::stationary_max_speed)
   double imu_chi2 = 0.0;
@@ -356,16 +339,16 @@ class SlidingWindowEstimator {
   // the IMU between them preintegrated; min_landmarks may be 0 (a standing body). Both throw
   // std::logic_error outside the inertial mode.
   void AddImu(const std::vector<sensor::ImuSample>& samples);
-  InitializationResult InitializeInertial(const FrameInput& a, const InertialState& state_a,
-                                          const FrameInput& b, const InertialState& state_b,
+  InitializationResult InitializeInertial(const FrameInput& a, const sensor::BodyState& state_a,
+                                          const FrameInput& b, const sensor::BodyState& state_b,
                                           int min_landmarks = 0);
   // The same with N >= 2 keyframes (oldest first; e.g. all those of a visual-inertial alignment):
   // IMU factors between consecutive ones, the landmarks of every keyframe triangulated. Throws
   // std::invalid_argument when the sizes differ or N < 2 (or N > window_size).
   InitializationResult InitializeInertial(const std::vector<FrameInput>& frames,
-                                          const std::vector<InertialState>& states,
+                                          const std::vector<sensor::BodyState>& states,
                                           int min_landmarks = 0);
-  std::vector<InertialState> KeyframeStates() const;  // oldest first
+  std::vector<sensor::BodyState> KeyframeStates() const;  // oldest first
   // The camera-body extrinsic T_b_c the window uses now: InertialOptions::T_b_c, or its estimate
   // (InertialOptions::estimate_extrinsic). Throws std::logic_error outside the inertial mode.
   SE3d ExtrinsicEstimate() const;
@@ -376,7 +359,7 @@ class SlidingWindowEstimator {
   double TimeOffsetEstimate() const;
 
   // Processes the next frame (after Initialize). See the file comment.
-  FrameResult AddFrame(const FrameInput& frame, const StageObserver& observer = {});
+  WindowFrameResult AddFrame(const FrameInput& frame, const StageObserver& observer = {});
 
   // Motion-only pose of a frame against the current landmarks, from the guess; the state is not
   // changed (frames between the two initialisation views). nullopt if too little is tracked.

@@ -74,7 +74,7 @@ WindowRun RunWindow(const sim::CameraSimulation& s, const std::vector<FrameInput
   run.est.push_back(init.T_w_b);
   double nees_sum = 0.0;
   for (std::size_t i = second + 1; i < in.size(); ++i) {
-    const FrameResult r = estimator.AddFrame(in[i]);
+    const WindowFrameResult r = estimator.AddFrame(in[i]);
     run.est.push_back(r.T_w_c);
     run.keyframes += r.keyframe;
     run.marginalized += r.marginalized_keyframes;
@@ -361,7 +361,7 @@ TEST(SlidingWindowEstimator, NeesOfTheNewestPoseIsInASaneBand) {
   const std::vector<FrameInput> in = WithNoisyPosePriors(s, Inputs(s, 2));
   SlidingWindowOptions options;
   options.window_size = 6;
-  options.loss = LossKind::kTrivial;  // the covariance of a Gaussian problem
+  options.loss = factors::RobustLoss::kNone;  // the covariance of a Gaussian problem
   const WindowRun run = RunWindow(s, in, options, 3, true);
   ASSERT_TRUE(run.initialized);
   SlidingWindowOptions in_prior = options;  // k0's line observations into the prior at once
@@ -412,7 +412,7 @@ TEST(SlidingWindowEstimator, PosesOnlyPriorRecoversPosesAndStaysConsistent) {
   const sim::CameraSimulation n = Simulate(sim::SceneKind::kRoom, 40, 3);
   const std::vector<FrameInput> in = WithNoisyPosePriors(n, Inputs(n, 2));
   poses.window_size = 6;
-  poses.loss = LossKind::kTrivial;
+  poses.loss = factors::RobustLoss::kNone;
   const WindowRun c = RunWindow(n, in, poses, 3, true);
   ASSERT_TRUE(c.initialized);
   std::printf("poses-only prior, room 40 frames with pose priors: mean NEES %.2f over %d (6)\n",
@@ -437,7 +437,7 @@ TEST(SlidingWindowEstimator, PnpFallbackRecoversAFrameWithABadPrediction) {
     options.pnp_fallback = fallback;
     SlidingWindowEstimator estimator(s.rig.K, options);
     ASSERT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
-    FrameResult r;
+    WindowFrameResult r;
     for (int i = 4; i <= bad; ++i) r = estimator.AddFrame(in[i]);
     const double error = (r.T_w_c.translation() - s.T_w_c_gt[bad].translation()).norm();
     std::printf("bad prediction, PnP fallback %s: ok %d, tried %d, position error %.4f m\n",

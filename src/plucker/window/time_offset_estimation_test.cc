@@ -102,7 +102,7 @@ OffsetRun RunWindow(const sim::CameraSimulation& s, double imu_shift, bool estim
     run.est.push_back(s.T_w_b_gt[i]);
   }
   for (std::size_t i = second + 1; i < in.size(); ++i) {
-    const FrameResult r = estimator.AddFrame(in[i]);
+    const WindowFrameResult r = estimator.AddFrame(in[i]);
     gt.push_back(s.T_w_b_gt[i]);
     run.est.push_back(r.state.T_w_b);
   }

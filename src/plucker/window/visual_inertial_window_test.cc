@@ -86,7 +86,7 @@ VioRun RunVio(const sim::CameraSimulation& s, SlidingWindowOptions options, bool
   double chi2 = 0.0, nees_sum = 0.0;
   std::deque<int> keyframe_frames = {0, second};
   for (std::size_t i = second + 1; i < in.size(); ++i) {
-    const FrameResult r = estimator.AddFrame(in[i]);
+    const WindowFrameResult r = estimator.AddFrame(in[i]);
     run.keyframe_of.push_back(r.keyframe ? static_cast<int>(i) : keyframe_frames.back());
     run.est.push_back(r.state.T_w_b);
     run.keyframes += r.keyframe;
@@ -235,7 +235,7 @@ TEST(VisualInertialWindow, PosesOnlyPriorEqualsTheJointSchurComplement) {
   ceres::HuberLoss huber(1.5);
   double pose[3][7], v[3][3], bias[3][6];
   for (int k = 0; k < 3; ++k) {
-    const InertialState st = TrueState(s, kf[k]);
+    const sensor::BodyState st = TrueState(s, kf[k]);
     st.T_w_b.ToParameters(pose[k]);
     for (int i = 0; i < 3; ++i) {
       v[k][i] = st.v_w(i) + 0.01 * (i + 1);  // off the truth: non-zero residuals
@@ -426,7 +426,7 @@ TEST(VisualInertialWindow, UncoveredFramesAreRefusedAndTheWindowGoesOn) {
   estimator.AddImu(late);
   int finite = 0;
   for (std::size_t i = 11; i < in.size(); ++i) {
-    const FrameResult r = estimator.AddFrame(in[i]);
+    const WindowFrameResult r = estimator.AddFrame(in[i]);
     finite += r.state.T_w_b.translation().allFinite() && r.state.v_w.allFinite();
     EXPECT_LT((r.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 0.2) << i;
   }
@@ -446,7 +446,7 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
   for (const auto& p : s.points) in[p.frame].points.push_back(p);
   const std::vector<int> kf = {0, 5, 10, 15, 20};
   std::vector<FrameInput> frames;
-  std::vector<InertialState> states;
+  std::vector<sensor::BodyState> states;
   for (int f : kf) {
     frames.push_back(in[f]);
     states.push_back(TrueState(s, f));
@@ -462,7 +462,7 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
   const InitializationResult r = many.InitializeInertial(frames, states, 10);
   ASSERT_TRUE(r.ok);
   ASSERT_TRUE(two.InitializeInertial(in[0], TrueState(s, 0), in[20], TrueState(s, 20), 10).ok);
-  const std::vector<InertialState> solved = many.KeyframeStates();
+  const std::vector<sensor::BodyState> solved = many.KeyframeStates();
   ASSERT_EQ(solved.size(), kf.size());
   double max_error = 0.0;
   for (std::size_t k = 0; k < kf.size(); ++k) {
@@ -474,7 +474,7 @@ TEST(VisualInertialWindow, StartsWithManyKeyframesAndTriangulatesTheLandmarksOfE
   EXPECT_LT(max_error, 2e-3);  // noise-free: the 3.7 cm perturbations are removed
   EXPECT_GT(r.points, static_cast<int>(two.Points().size()));  // tracks not seen by the newest
   for (int i = 21; i < 30; ++i) {
-    const FrameResult fr = many.AddFrame(in[i]);
+    const WindowFrameResult fr = many.AddFrame(in[i]);
     EXPECT_LT((fr.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 5e-3) << i;
   }
   EXPECT_THROW(many.InitializeInertial(frames, {states.front()}), std::invalid_argument);
@@ -494,7 +494,7 @@ TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenIt
   options.inertial->T_b_c = s.rig.T_b_c;
   options.inertial->gravity_w = s.imu_options.gravity_w;
   {  // Standing: frame 0's view repeated, the IMU reading gravity plus a 0.05 m/s^2 offset.
-    InertialState still;
+    sensor::BodyState still;
     still.T_w_b = s.T_w_b_gt[0];
     std::vector<sensor::ImuSample> imu;
     for (int k = 0; k <= 500; ++k) {
@@ -517,7 +517,7 @@ TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenIt
     int held = 0;
     double drift = 0.0;
     for (std::size_t i = 2; i < in.size(); ++i) {
-      const FrameResult r = estimator.AddFrame(in[i]);
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
       held += r.stationary;
       drift = std::max(drift, (r.state.T_w_b.translation() - still.T_w_b.translation()).norm());
     }
@@ -539,7 +539,7 @@ TEST(VisualInertialWindow, TheStationaryFlagHoldsAStandingBodyAndIsIgnoredWhenIt
     ASSERT_TRUE(estimator.InitializeInertial(in[0], TrueState(s, 0), in[3], TrueState(s, 3)).ok);
     int held = 0, checked = 0;
     for (std::size_t i = 4; i < in.size(); ++i) {
-      const FrameResult r = estimator.AddFrame(in[i]);
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
       held += r.stationary;
       EXPECT_LT((r.state.T_w_b.translation() - s.T_w_b_gt[i].translation()).norm(), 0.1) << i;
       ++checked;

@@ -1,5 +1,5 @@
-// Diagnostics: the per-frame counts of FrameResult, the IMU chi-square of the newest keyframe and
-// the covariance of the newest pose.
+// Diagnostics: the per-frame counts of WindowFrameResult, the IMU chi-square of the newest keyframe
+// and the covariance of the newest pose.
 #include <ceres/covariance.h>
 
 #include "plucker/window/window_internal.h"
@@ -21,7 +21,7 @@ double SlidingWindowEstimator::Impl::NewestImuChi2() const {
   return res.squaredNorm();
 }
 
-void SlidingWindowEstimator::Impl::FillCounts(FrameResult* r) const {
+void SlidingWindowEstimator::Impl::FillCounts(WindowFrameResult* r) const {
   r->window_points = static_cast<int>(points.size());
   r->window_lines = static_cast<int>(lines.size());
   r->window_keyframes = static_cast<int>(keyframes.size());

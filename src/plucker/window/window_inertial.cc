@@ -22,22 +22,22 @@ using internal::ZeroMotionResidual;
 // The IMU from time t0 to t1 at the bias `bias` (throws std::invalid_argument when the samples
 // do not cover the interval).
 ImuPreintegration SlidingWindowEstimator::Impl::Preintegrate(double t0, double t1,
-                                                             const ImuBias& bias) const {
+                                                             const sensor::ImuBias& bias) const {
   return PreintegrateSamples(imu, t0, t1, bias, opt.inertial->imu);
 }
 
 // The state at time t predicted from the newest keyframe, with the preintegration used.
-InertialState SlidingWindowEstimator::Impl::Predict(
+sensor::BodyState SlidingWindowEstimator::Impl::Predict(
     double t, std::unique_ptr<ImuPreintegration>* preintegration) const {
   const Frame& kf = *keyframes.back();
   *preintegration = std::make_unique<ImuPreintegration>(Preintegrate(kf.input.time, t, kf.Bias()));
-  const InertialState s = kf.State();
+  const sensor::BodyState s = kf.State();
   NavState n;
   n.R_w_b = s.T_w_b.RotationMatrix();
   n.p_w = s.T_w_b.translation();
   n.v_w = s.v_w;
   const NavState p = (*preintegration)->Predict(n, s.bias, opt.inertial->gravity_w);
-  return {SE3d(p.R_w_b, p.p_w), p.v_w, s.bias};
+  return {t, SE3d(p.R_w_b, p.p_w), p.v_w, s.bias};
 }
 
 // The IMU factor between keyframes k - 1 and k, and the priors of keyframe k.
@@ -90,7 +90,7 @@ void SlidingWindowEstimator::Impl::RepropagateImu() {
   for (std::size_t k = 1; k < keyframes.size(); ++k) {
     ImuPreintegration* p = keyframes[k]->imu_from_previous.get();
     if (!p) continue;
-    const ImuBias b = keyframes[k - 1]->Bias();
+    const sensor::ImuBias b = keyframes[k - 1]->Bias();
     if ((b.gyro - p->BiasLinearisation().gyro).norm() > opt.inertial->repropagate_gyro_bias ||
         (b.accel - p->BiasLinearisation().accel).norm() > opt.inertial->repropagate_accel_bias) {
       p->Repropagate(b);
@@ -118,7 +118,7 @@ bool SlidingWindowEstimator::Impl::BelievedStationary(bool flag, const Eigen::Ve
 // newest keyframe (rotation and position, given the keyframe's state) plus the keyframe's
 // velocity uncertainty carried over the time since it, (tracking_velocity_sigma dt)^2 per axis.
 ceres::CostFunction* SlidingWindowEstimator::Impl::ImuPosePrior(
-    const InertialState& predicted, const ImuPreintegration& preintegration) const {
+    const sensor::BodyState& predicted, const ImuPreintegration& preintegration) const {
   const Eigen::Matrix3d R_w_i = keyframes.back()->State().T_w_b.RotationMatrix();
   const Matrix9d C = preintegration.Covariance();  // [dtheta, dv, dp] in the body at i
   Eigen::Matrix<double, 6, 6> cov;
@@ -160,8 +160,8 @@ void SlidingWindowEstimator::AddImu(const std::vector<sensor::ImuSample>& sample
   m.imu.insert(m.imu.end(), samples.begin(), samples.end());
 }
 
-std::vector<InertialState> SlidingWindowEstimator::KeyframeStates() const {
-  std::vector<InertialState> out;
+std::vector<sensor::BodyState> SlidingWindowEstimator::KeyframeStates() const {
+  std::vector<sensor::BodyState> out;
   for (const auto& f : impl_->keyframes) out.push_back(f->State());
   return out;
 }

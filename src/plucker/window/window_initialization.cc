@@ -20,7 +20,7 @@ InitializationResult SlidingWindowEstimator::Impl::StartWindow(int min_landmarks
     Clear();
     return result;
   }
-  FrameResult solve;
+  WindowFrameResult solve;
   SolveWindow(&solve);
   result.iterations = solve.window_iterations;
   result.final_cost = solve.final_cost;
@@ -71,16 +71,16 @@ InitializationResult SlidingWindowEstimator::Initialize(const std::vector<FrameI
 }
 
 InitializationResult SlidingWindowEstimator::InitializeInertial(const FrameInput& a,
-                                                                const InertialState& state_a,
+                                                                const sensor::BodyState& state_a,
                                                                 const FrameInput& b,
-                                                                const InertialState& state_b,
+                                                                const sensor::BodyState& state_b,
                                                                 int min_landmarks) {
   return InitializeInertial(std::vector<FrameInput>{a, b},
-                            std::vector<InertialState>{state_a, state_b}, min_landmarks);
+                            std::vector<sensor::BodyState>{state_a, state_b}, min_landmarks);
 }
 
 InitializationResult SlidingWindowEstimator::InitializeInertial(
-    const std::vector<FrameInput>& frames, const std::vector<InertialState>& states,
+    const std::vector<FrameInput>& frames, const std::vector<sensor::BodyState>& states,
     int min_landmarks) {
   Impl& m = *impl_;
   if (!m.opt.inertial) throw std::logic_error("InitializeInertial: not in the inertial mode");

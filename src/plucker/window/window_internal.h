@@ -65,13 +65,13 @@ struct Frame {
   void SetCameraPose(const SE3d& T_w_c) {
     (T_b_c ? T_w_c * T_b_c->Inverse() : T_w_c).ToParameters(pose);
   }
-  ImuBias Bias() const {
-    ImuBias b;
+  sensor::ImuBias Bias() const {
+    sensor::ImuBias b;
     b.gyro = Eigen::Vector3d(bias[0], bias[1], bias[2]);
     b.accel = Eigen::Vector3d(bias[3], bias[4], bias[5]);
     return b;
   }
-  void SetState(const InertialState& s) {
+  void SetState(const sensor::BodyState& s) {
     s.T_w_b.ToParameters(pose);
     for (int i = 0; i < 3; ++i) {
       v[i] = s.v_w(i);
@@ -79,8 +79,8 @@ struct Frame {
       bias[3 + i] = s.bias.accel(i);
     }
   }
-  InertialState State() const {
-    return {SE3d::FromParameters(pose), Eigen::Vector3d(v[0], v[1], v[2]), Bias()};
+  sensor::BodyState State() const {
+    return {input.time, SE3d::FromParameters(pose), Eigen::Vector3d(v[0], v[1], v[2]), Bias()};
   }
 };
 
@@ -123,7 +123,7 @@ struct ObservationBlock {
 // preintegrated from the newest keyframe to it.
 struct Prediction {
   SE3d T_w_c;
-  InertialState state;
+  sensor::BodyState state;
   std::unique_ptr<ImuPreintegration> imu;
   bool stationary = false;  // the caller's flag, believed
 };
@@ -201,10 +201,10 @@ struct SlidingWindowEstimator::Impl {
   int PruneRetained(bool cull);
   // The new prior and its first estimates (none if empty).
   void InstallPrior(std::unique_ptr<MarginalizationPrior> next,
-                    const std::vector<double*>& next_blocks, FrameResult* result);
+                    const std::vector<double*>& next_blocks, WindowFrameResult* result);
   // After k0 went into the prior: drop it and the landmarks eliminated with it.
   void DropOldestKeyframe(const std::vector<int>& remove_points,
-                          const std::vector<int>& remove_lines, FrameResult* result);
+                          const std::vector<int>& remove_lines, WindowFrameResult* result);
 
   // --- window_residuals.cc: residuals and the problem ----------------------------------------
   Eigen::Matrix2d PointSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.point_sigma_px; }
@@ -231,9 +231,9 @@ struct SlidingWindowEstimator::Impl {
   // --- window_inertial.cc: the IMU ------------------------------------------------------------
   // The IMU from time t0 to t1 at the bias `bias` (throws std::invalid_argument when the samples
   // do not cover the interval).
-  ImuPreintegration Preintegrate(double t0, double t1, const ImuBias& bias) const;
+  ImuPreintegration Preintegrate(double t0, double t1, const sensor::ImuBias& bias) const;
   // The state at time t predicted from the newest keyframe, with the preintegration used.
-  InertialState Predict(double t, std::unique_ptr<ImuPreintegration>* preintegration) const;
+  sensor::BodyState Predict(double t, std::unique_ptr<ImuPreintegration>* preintegration) const;
   // The IMU factor between keyframes k - 1 and k, and the priors of keyframe k.
   void AppendInertialResiduals(std::size_t k, std::vector<ResidualSpec>* out) const;
   // Integrates the IMU factors again whose start bias moved far from the linearisation point.
@@ -244,7 +244,7 @@ struct SlidingWindowEstimator::Impl {
   // InertialOptions::stationary_max_speed (an image test alone takes forward motion for standing).
   bool BelievedStationary(bool flag, const Eigen::Vector3d& v_w) const;
   // The prior the IMU prediction puts on a frame's body pose T_w_b (see the definition).
-  ceres::CostFunction* ImuPosePrior(const InertialState& predicted,
+  ceres::CostFunction* ImuPosePrior(const sensor::BodyState& predicted,
                                     const ImuPreintegration& preintegration) const;
 
   // --- window_extrinsic.cc: InertialOptions::estimate_extrinsic -----------------------------
@@ -290,14 +290,14 @@ struct SlidingWindowEstimator::Impl {
   double Parallax(const Frame& f) const;
   // Sets result->parallax_px and returns whether the tracked frame becomes a keyframe.
   bool DecideKeyframe(const Frame& f, const internal::TrackResult& track,
-                      FrameResult* result) const;
+                      WindowFrameResult* result) const;
 
   // --- window_triangulation.cc ----------------------------------------------------------------
   // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
   void Triangulate(const Frame& f, int* new_points, int* new_lines);
 
   // --- window_solve.cc: solve and cull --------------------------------------------------------
-  void SolveWindow(FrameResult* result);
+  void SolveWindow(WindowFrameResult* result);
   // Marks the observations whose residual in `problem` (at the current values) cannot be
   // evaluated or exceeds the outlier threshold; returns the number marked.
   int CullOutliers(const ceres::Problem& problem,
@@ -310,7 +310,7 @@ struct SlidingWindowEstimator::Impl {
   // --- window_diagnostics.cc ------------------------------------------------------------------
   // Whitened squared residual of the IMU factor into the newest keyframe (0 if none).
   double NewestImuChi2() const;
-  void FillCounts(FrameResult* r) const;
+  void FillCounts(WindowFrameResult* r) const;
 };
 
 }  // namespace window

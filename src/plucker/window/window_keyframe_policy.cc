@@ -1,5 +1,5 @@
 // Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, time since the
-// newest keyframe; InertialOptions::max_keyframe_interval_s in the inertial mode).
+// newest keyframe; InertialOptions::max_imu_factor_span_s in the inertial mode).
 #include <unordered_map>
 
 #include "plucker/geometry/median.h"
@@ -56,7 +56,7 @@ double SlidingWindowEstimator::Impl::Parallax(const Frame& f) const {
 }
 
 bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
-                                                  FrameResult* result) const {
+                                                  WindowFrameResult* result) const {
   result->parallax_px = Parallax(f);
   const int observed = static_cast<int>(f.input.points.size() + f.input.segments.size());
   const double since_keyframe = f.input.time - keyframes.back()->input.time;
@@ -66,9 +66,9 @@ bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackRes
        track.points + track.lines < opt.min_tracked ||
        track.points + track.lines < opt.min_tracked_ratio * observed ||
        (opt.max_keyframe_interval_s > 0.0 && since_keyframe >= opt.max_keyframe_interval_s));
-  // Inertial mode: also when InertialOptions::max_keyframe_interval_s has passed, tracked or not
+  // Inertial mode: also when InertialOptions::max_imu_factor_span_s has passed, tracked or not
   // (the IMU factors stay short, a standing body keeps its window).
-  if (opt.inertial) return keyframe || since_keyframe >= opt.inertial->max_keyframe_interval_s;
+  if (opt.inertial) return keyframe || since_keyframe >= opt.inertial->max_imu_factor_span_s;
   return keyframe;
 }
 

@@ -10,7 +10,7 @@ namespace window {
 
 using internal::ObservationBlock;
 
-void SlidingWindowEstimator::Impl::SolveWindow(FrameResult* result) {
+void SlidingWindowEstimator::Impl::SolveWindow(WindowFrameResult* result) {
   RepropagateImu();
   UpdateExtrinsicFree();
   ceres::Problem problem(ProblemOptions());

@@ -154,7 +154,7 @@ int SlidingWindowEstimator::Impl::PruneRetained(bool cull) {
 // The new prior and its first estimates (none if empty).
 void SlidingWindowEstimator::Impl::InstallPrior(std::unique_ptr<MarginalizationPrior> next,
                                                 const std::vector<double*>& next_blocks,
-                                                FrameResult* result) {
+                                                WindowFrameResult* result) {
   fe.clear();
   prior = std::move(next);
   prior_blocks = next_blocks;
@@ -180,7 +180,7 @@ void SlidingWindowEstimator::Impl::InstallPrior(std::unique_ptr<MarginalizationP
 // After k0 went into the prior: drop it and the landmarks eliminated with it.
 void SlidingWindowEstimator::Impl::DropOldestKeyframe(const std::vector<int>& remove_points,
                                                       const std::vector<int>& remove_lines,
-                                                      FrameResult* result) {
+                                                      WindowFrameResult* result) {
   keyframes.pop_front();
   keyframes.front()->imu_from_previous.reset();
   keyframes.front()->state_prior = false;

@@ -11,8 +11,8 @@ namespace window {
 
 // The simulation's true state at frame i: body pose, velocity, and the biases of the IMU sample
 // nearest the frame (at or before its time).
-inline InertialState TrueState(const sim::CameraSimulation& s, int i) {
-  InertialState st;
+inline sensor::BodyState TrueState(const sim::CameraSimulation& s, int i) {
+  sensor::BodyState st;
   st.T_w_b = s.T_w_b_gt[i];
   st.v_w = s.v_w_gt[i];
   std::size_t k = 0;
