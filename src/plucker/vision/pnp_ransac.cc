@@ -1,5 +1,8 @@
 #include "plucker/vision/pnp_ransac.h"
 
+#include <algorithm>
+#include <string>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
