@@ -11,12 +11,19 @@
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
+#include "stage_clock.h"
 
 namespace plucker {
 namespace app {
 
-const std::array<const char*, kLidarStages> kLidarStageNames = {
-    "read", "rings", "features", "correspondences", "solve", "map_update", "total"};
+// read, the odometry's stages (stage_clock.h), total.
+const std::array<const char*, kLidarStages> kBenchStageNames = [] {
+  std::array<const char*, kLidarStages> names{};
+  names.front() = kLidarReadStageName;
+  for (int s = 0; s < lidar::kNumStages; ++s) names[1 + s] = kLidarStageNames[s];
+  names.back() = "total";
+  return names;
+}();
 
 std::vector<BlockMedians> MediansPerBlock(const std::vector<StageTimes>& frames,
                                           std::size_t block_size) {
@@ -39,7 +46,7 @@ std::vector<BlockMedians> MediansPerBlock(const std::vector<StageTimes>& frames,
 
 void PrintBlockTable(const std::vector<BlockMedians>& blocks) {
   std::printf("%-11s", "frames");
-  for (const char* name : kLidarStageNames) std::printf(" %15s", name);
+  for (const char* name : kBenchStageNames) std::printf(" %15s", name);
   std::printf("\n");
   for (const BlockMedians& b : blocks) {
     char range[32];

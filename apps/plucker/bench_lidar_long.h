@@ -17,7 +17,7 @@ namespace app {
 // Milliseconds per stage of one frame: read, rings, features, correspondences, solve, map update
 // and the frame's total (read + odometry).
 constexpr int kLidarStages = 7;
-extern const std::array<const char*, kLidarStages> kLidarStageNames;
+extern const std::array<const char*, kLidarStages> kBenchStageNames;  // read, stages, total
 using StageTimes = std::array<double, kLidarStages>;
 
 struct BlockMedians {

@@ -14,11 +14,11 @@
 
 #include "bench_lidar_long.h"
 #include "commands.h"
-#include "lidar_heap.h"
 #include "lidar_sequence_defaults.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/lidar/odometry.h"
+#include "process_setup.h"
 #include "stage_clock.h"
 
 namespace plucker {
@@ -38,7 +38,7 @@ struct BenchLidarArgs {
 };
 
 constexpr int kStages = kLidarStages;
-const std::array<const char*, kStages>& kStageNames = kLidarStageNames;
+const std::array<const char*, kStages>& kStageNames = kBenchStageNames;
 using ReadFn = std::function<bool(int, LidarScan*, std::string*)>;
 
 // Per frame: the stage times of one pass over the sequence (CPU time of the thread with one
@@ -112,7 +112,7 @@ int RunLongBench(const BenchLidarArgs& args) {
 }
 
 int RunBenchLidar(const BenchLidarArgs& args) {
-  HeapOnHugePages();  // as `plucker lidar`
+  SetUpProcess(LidarPipelineSetup());  // as `plucker lidar`
   if (args.long_mode) return RunLongBench(args);
   if (args.data.empty()) throw std::invalid_argument("--data is required (unless --long)");
   const io::LidarSequence seq = io::LidarSequence::Open(args.data, args.sequence);

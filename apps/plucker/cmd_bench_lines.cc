@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "plucker/eval/line_coverage.h"
+#include "plucker/geometry/median.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/segments.h"
 #include "plucker/vision/line_detector.h"
@@ -80,12 +81,7 @@ struct Score {
     for (double m : ms) s += m;
     return ms.empty() ? 0.0 : s / ms.size();
   }
-  double MedianMs() const {
-    std::vector<double> m = ms;
-    if (m.empty()) return 0.0;
-    std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
-    return m[m.size() / 2];
-  }
+  double MedianMs() const { return UpperMedian(ms); }
 };
 
 struct Image {

@@ -17,7 +17,6 @@
 #include <stdexcept>
 
 #include "commands.h"
-#include "lidar_heap.h"
 #include "lidar_input.h"
 #include "lidar_options_table.h"
 #include "lidar_sequence_defaults.h"
@@ -28,6 +27,7 @@
 #include "plucker/lidar/odometry.h"
 #include "plucker/lidar/voxel_map.h"
 #include "plucker/sensor/lidar_model.h"
+#include "process_setup.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 
@@ -89,7 +89,7 @@ nlohmann::json Vec(const Eigen::MatrixBase<Derived>& v) {
 }
 
 int RunLidar(const LidarArgs& a) {
-  HeapOnHugePages();
+  SetUpProcess(LidarPipelineSetup());
   LidarConfig config;
   config.map_voxel_size = a.map_voxel;
   if (!a.config.empty()) LoadLidarConfig(a.config, &config);
@@ -178,37 +178,33 @@ int RunLidar(const LidarArgs& a) {
     }
     if (r.degeneracy.degenerate && r.ok) ++degenerate_frames;
     if (!a.json.empty()) {
-      nlohmann::json f = {
-          {"frame", i},
-          {"ok", r.ok},
-          {"ms",
-           {{"read", options.num_threads > 1 ? read_ms : read_cpu_ms},
-            {"rings", read_ok ? stages.ms(lidar::Stage::kRings) : 0.0},
-            {"features", read_ok ? stages.ms(lidar::Stage::kFeatures) : 0.0},
-            {"correspondences", read_ok ? stages.ms(lidar::Stage::kCorrespondences) : 0.0},
-            {"solve", read_ok ? stages.ms(lidar::Stage::kSolve) : 0.0},
-            {"map_update", read_ok ? stages.ms(lidar::Stage::kMapUpdate) : 0.0},
-            {"total_cpu", frame_cpu_ms},
-            {"total_wall", frame_ms}}},
-          {"association_rounds", r.association_rounds},
-          {"features",  // before the caps (edge_points, plane_points: after)
-           {{"valid", r.features.valid_points},
-            {"edges", r.features.edges},
-            {"planes", r.features.planes}}},
-          {"edge_points", r.edge_points},
-          {"plane_points", r.plane_points},
-          {"edge_correspondences", r.edge_correspondences},
-          {"plane_correspondences", r.plane_correspondences},
-          {"iterations", r.solver_iterations},
-          {"degenerate", r.degeneracy.degenerate},
-          {"degenerate_directions", r.degeneracy.num_degenerate_directions},
-          {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
-          {"translation_ratios", Vec(r.degeneracy.translation_ratios)},
-          {"rotation_ratios", Vec(r.degeneracy.rotation_ratios)},
-          {"translation_information", Vec(r.degeneracy.translation_information)},
-          {"rotation_information", Vec(r.degeneracy.rotation_information)},
-          {"deskewed", r.deskewed},
-          {"map_points", r.map_points}};
+      nlohmann::json ms = {{kLidarReadStageName, options.num_threads > 1 ? read_ms : read_cpu_ms},
+                           {"total_cpu", frame_cpu_ms},
+                           {"total_wall", frame_ms}};
+      for (int s = 0; s < lidar::kNumStages; ++s)
+        ms[kLidarStageNames[s]] = read_ok ? stages.ms(s) : 0.0;
+      nlohmann::json f = {{"frame", i},
+                          {"ok", r.ok},
+                          {"ms", ms},
+                          {"association_rounds", r.association_rounds},
+                          {"features",  // before the caps (edge_points, plane_points: after)
+                           {{"valid", r.features.valid_points},
+                            {"edges", r.features.edges},
+                            {"planes", r.features.planes}}},
+                          {"edge_points", r.edge_points},
+                          {"plane_points", r.plane_points},
+                          {"edge_correspondences", r.edge_correspondences},
+                          {"plane_correspondences", r.plane_correspondences},
+                          {"iterations", r.solver_iterations},
+                          {"degenerate", r.degeneracy.degenerate},
+                          {"degenerate_directions", r.degeneracy.num_degenerate_directions},
+                          {"eigenvalues", Vec(r.degeneracy.eigenvalues)},
+                          {"translation_ratios", Vec(r.degeneracy.translation_ratios)},
+                          {"rotation_ratios", Vec(r.degeneracy.rotation_ratios)},
+                          {"translation_information", Vec(r.degeneracy.translation_information)},
+                          {"rotation_information", Vec(r.degeneracy.rotation_information)},
+                          {"deskewed", r.deskewed},
+                          {"map_points", r.map_points}};
       if (!r.ok) f["error"] = r.error;
       json_out << (i == 0 ? "\n" : ",\n") << f.dump();
     }

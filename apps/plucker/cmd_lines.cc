@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
+#include "overlay.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/segments.h"
@@ -74,23 +75,14 @@ void WriteOutput(const std::string& out, const std::string& image, const DetectA
   }
 }
 
-// The image in colour with the segments in red.
+// The image in colour with the detected segments (overlay.h's palette).
 void Draw(const std::string& image, const std::vector<vision::Segment2d>& segments,
           const std::string& out) {
   cv::Mat canvas = cv::imread(image, cv::IMREAD_COLOR);
   if (canvas.empty()) throw io::IoError(image, "cannot decode the image");
-  for (const vision::Segment2d& s : segments) {
-    cv::line(canvas, cv::Point2d(s[0], s[1]), cv::Point2d(s[2], s[3]), cv::Scalar(0, 0, 255), 1,
-             cv::LINE_AA);
-  }
-  bool ok = false;
-  try {
-    ok = cv::imwrite(out, canvas);
-  } catch (const cv::Exception& e) {
-    throw io::IoError(out, std::string("cannot write the drawing: ") + e.what());
-  }
-  if (!ok)
-    throw io::IoError(out, "cannot write the drawing (folder missing or unknown extension?)");
+  for (const vision::Segment2d& s : segments)
+    overlay::Segment(&canvas, s.head<2>(), s.tail<2>(), overlay::kDetectedSegment, 1);
+  overlay::WriteImage(out, canvas);
 }
 
 vision::LineDetectorOptions Options(const DetectArgs& a) {

@@ -32,6 +32,7 @@
 
 #include "camera_input.h"
 #include "commands.h"
+#include "overlay.h"
 #include "plucker/eval/line_tracks.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/image_folder.h"
@@ -377,28 +378,19 @@ int RunMatch(const MatchArgs& a) {
     io::WriteFileAtomically(a.out, text);
   }
   if (!a.draw.empty()) {
-    cv::Mat c1, c2, canvas;
-    cv::cvtColor(g1, c1, cv::COLOR_GRAY2BGR);
-    cv::cvtColor(g2, c2, cv::COLOR_GRAY2BGR);
-    cv::vconcat(c1, c2, canvas);
-    const double dy = g1.rows;
+    cv::Mat canvas;
+    cv::vconcat(overlay::Canvas(g1), overlay::Canvas(g2), canvas);
+    const Eigen::Vector2d dy(0.0, g1.rows);  // image 2 below image 1
     for (const vision::LineMatch& m : r.matches) {
-      const auto& u = f1.segments[m.a];
-      const auto& v = f2.segments[m.b];
-      const cv::Scalar colour((37 * m.a) % 256, (91 * m.a + 80) % 256, (53 * m.a + 160) % 256);
-      cv::line(canvas, {cvRound(u[0]), cvRound(u[1])}, {cvRound(u[2]), cvRound(u[3])}, colour, 2);
-      cv::line(canvas, {cvRound(v[0]), cvRound(v[1] + dy)}, {cvRound(v[2]), cvRound(v[3] + dy)},
-               colour, 2);
-      cv::line(canvas, {cvRound(0.5 * (u[0] + u[2])), cvRound(0.5 * (u[1] + u[3]))},
-               {cvRound(0.5 * (v[0] + v[2])), cvRound(0.5 * (v[1] + v[3]) + dy)}, colour, 1);
+      const vision::Segment2d& u = f1.segments[m.a];
+      const vision::Segment2d& v = f2.segments[m.b];
+      const cv::Scalar colour = overlay::TrackColour(m.a);
+      overlay::Segment(&canvas, u.head<2>(), u.tail<2>(), colour, 2, 1.0, cv::LINE_8);
+      overlay::Segment(&canvas, v.head<2>() + dy, v.tail<2>() + dy, colour, 2, 1.0, cv::LINE_8);
+      overlay::Segment(&canvas, 0.5 * (u.head<2>() + u.tail<2>()),
+                       0.5 * (v.head<2>() + v.tail<2>()) + dy, colour, 1, 1.0, cv::LINE_8);
     }
-    bool ok = false;
-    try {
-      ok = cv::imwrite(a.draw, canvas);
-    } catch (const cv::Exception& e) {
-      throw io::IoError(a.draw, std::string("cannot write the drawing: ") + e.what());
-    }
-    if (!ok) throw io::IoError(a.draw, "cannot write the drawing (folder or extension?)");
+    overlay::WriteImage(a.draw, canvas);
   }
   return 0;
 }

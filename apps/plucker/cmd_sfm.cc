@@ -25,6 +25,7 @@
 
 #include "camera_input.h"
 #include "commands.h"
+#include "overlay.h"
 #include "plucker/eval/line_tracks.h"
 #include "plucker/eval/point_tracks.h"
 #include "plucker/geometry/point_projection.h"
@@ -99,37 +100,25 @@ std::string Fixed(double x, int digits = 2) {
   return s.str();
 }
 
-cv::Point2d Pt(const Eigen::Vector2d& p, double s) { return {p.x() * s, p.y() * s}; }
-
 // Detected segments (blue), segments of reconstructed lines (green) and the reprojected 3D
 // segments (red), drawn on the image reduced to a longer side of at most 1536 px.
 void WriteOverlay(const std::string& path, const cv::Mat& gray, const sfm::ViewFeatures& f,
                   int view, const PinholeIntrinsics& K, const SE3d& T_w_c,
                   const std::vector<sfm::SfmLine>& lines) {
   const double s = std::min(1.0, 1536.0 / std::max(gray.cols, gray.rows));
-  cv::Mat small, canvas;
-  cv::resize(gray, small, cv::Size(), s, s, cv::INTER_AREA);
-  cv::cvtColor(small, canvas, cv::COLOR_GRAY2BGR);
+  cv::Mat canvas = overlay::Canvas(gray, s);
   for (const vision::Segment2d& seg : f.lines.segments)
-    cv::line(canvas, Pt(seg.head<2>(), s), Pt(seg.tail<2>(), s), cv::Scalar(255, 128, 0), 1,
-             cv::LINE_AA);
+    overlay::Segment(&canvas, seg.head<2>(), seg.tail<2>(), overlay::kDetectedSegment, 1, s);
   for (const sfm::SfmLine& l : lines) {
     for (const auto& [v, i] : l.observations) {
       if (v != view) continue;
       const vision::Segment2d& seg = f.lines.segments[i];
-      cv::line(canvas, Pt(seg.head<2>(), s), Pt(seg.tail<2>(), s), cv::Scalar(0, 200, 0), 2,
-               cv::LINE_AA);
+      overlay::Segment(&canvas, seg.head<2>(), seg.tail<2>(), overlay::kReconstructedSegment, 2, s);
       const auto a = ProjectPoint(K, T_w_c, l.start_w), b = ProjectPoint(K, T_w_c, l.end_w);
-      if (a && b) cv::line(canvas, Pt(*a, s), Pt(*b, s), cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+      if (a && b) overlay::Segment(&canvas, *a, *b, overlay::kReprojected, 1, s);
     }
   }
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, canvas);
-  } catch (const cv::Exception& e) {
-    throw io::IoError(path, std::string("cannot write the overlay: ") + e.what());
-  }
-  if (!ok) throw io::IoError(path, "cannot write the overlay");
+  overlay::WriteImage(path, canvas);
 }
 
 struct Loaded {

@@ -10,12 +10,15 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <opencv2/core/utility.hpp>
 
 #include "commands.h"
 #include "option_flags.h"
+#include "pipeline_json.h"
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
+#include "process_setup.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vio_config.h"
@@ -35,8 +38,6 @@ struct VioArgs {
   int point_stride = 1, window = 10;
   VioConfig cfg;
 };
-
-const char* kFrontendStages[vision::kNumFrontendStages] = {"points", "detection", "lines"};
 
 // One frame through the odometry, timed; EuRoC: the image read here (unreadable: skipped).
 bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdometry* vio,
@@ -64,7 +65,7 @@ bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdome
                            {"observed_points", r.observed_points},
                            {"observed_segments", r.observed_segments}};
     for (int k = 0; k < vision::kNumFrontendStages; ++k) {
-      info["ms"][kFrontendStages[k]] = frontend_ms.ms(k);
+      info["ms"][kFrontendStageNames[k]] = frontend_ms.ms(k);
       frontend_total += frontend_ms.ms(k);
     }
     report->AddFrontend(r.frame, info);
@@ -104,6 +105,7 @@ void PrintSummary(const VioArgs& a, const VioReport& report,
 }
 
 int Run(const VioArgs& a) {
+  SetUpProcess(ImagePipelineSetup(), cv::setNumThreads);  // as `plucker vo`
   const double t_start = WallMs();
   const VioConfig& cfg = a.cfg;
   std::vector<std::string> inputs = CameraFlagFiles(a.camera);

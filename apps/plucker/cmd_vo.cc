@@ -12,7 +12,6 @@
 //                 frame only): a row of nan where the frame had no pose when it arrived (start
 //                 search, lost);
 //   --json        per-frame statistics, CPU time per stage (front end included), a summary.
-#include <malloc.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
@@ -26,6 +25,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/odometry/monocular_odometry.h"
+#include "process_setup.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vo_config.h"
@@ -54,13 +54,7 @@ struct VoArgs {
 };
 
 int Run(const VoArgs& a, VoConfig config) {
-  // One thread: OpenCV's own pool (KLT, corners, RANSAC) off; Ceres runs with num_threads = 1.
-  cv::setNumThreads(0);
-  // The front end allocates MB-sized temporaries per image (corner responses, pyramids): served
-  // by fresh mmaps, each page faults again every frame (measured: 40 ms of 48 in the points
-  // stage of --no-lines on KITTI). Keep them on the heap.
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 128 << 20);
+  SetUpProcess(ImagePipelineSetup(), cv::setNumThreads);  // one thread, front end on the heap
   const double t_start = WallMs();
   std::vector<std::string> inputs = CameraFlagFiles(a.images.camera);
   inputs.insert(inputs.end(), {a.images.bag.bag, a.config});

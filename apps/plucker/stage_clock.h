@@ -57,5 +57,11 @@ class BasicStageClock {
 
 using StageClock = BasicStageClock<lidar::Stage, lidar::kNumStages>;
 
+// The names of the LiDAR odometry's stages in the JSON and tables (`plucker lidar`,
+// `plucker bench lidar`), index = lidar::Stage. The image pipelines' are in pipeline_json.h.
+inline constexpr std::array<const char*, lidar::kNumStages> kLidarStageNames = {
+    "rings", "features", "correspondences", "solve", "map_update"};
+inline constexpr const char* kLidarReadStageName = "read";  // reading the scan
+
 }  // namespace app
 }  // namespace plucker

@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "pipeline_json.h"
 #include "plucker/eval/ate.h"
 #include "plucker/eval/plot.h"
 #include "plucker/io/io_error.h"
@@ -14,14 +15,7 @@ namespace plucker {
 namespace app {
 namespace {
 
-const char* kStageNames[window::kNumWindowStages] = {"tracking", "triangulation", "solve",
-                                                     "marginalization"};
-
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-nlohmann::json StateJson(const sensor::BodyState& s) {
-  return {{"v_w", Vec(s.v_w)}, {"gyro_bias", Vec(s.bias.gyro)}, {"accel_bias", Vec(s.bias.accel)}};
-}
 
 // [tx, ty, tz, qx, qy, qz, qw]
 nlohmann::json PoseJson(const SE3d& T) {
@@ -32,22 +26,6 @@ nlohmann::json PoseJson(const SE3d& T) {
 
 double AngleDeg(const SE3d& a, const SE3d& b) {
   return LogSO3<double>(a.rotation().conjugate() * b.rotation()).norm() * 180.0 / M_PI;
-}
-
-nlohmann::json WindowJson(const window::WindowFrameResult& r) {
-  return {{"keyframe", r.keyframe},
-          {"tracked_points", r.tracked_points},
-          {"tracked_lines", r.tracked_lines},
-          {"new_points", r.new_points},
-          {"new_lines", r.new_lines},
-          {"window_points", r.window_points},
-          {"window_lines", r.window_lines},
-          {"imu_chi2", r.imu_chi2},
-          {"tracking_iterations", r.tracking_iterations},
-          {"window_iterations", r.window_iterations},
-          {"marginalized_keyframes", r.marginalized_keyframes},
-          {"marginalization_failed", r.marginalization_failed},
-          {"state", StateJson(r.state)}};
 }
 
 nlohmann::json EventJson(const odometry::VioInitEvent& e) {
@@ -107,7 +85,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
     f["status"] = odometry::ToString(rec);
     if (!rec.window) continue;
     const window::WindowFrameResult& w = *rec.window;
-    const nlohmann::json stats = WindowJson(w);
+    const nlohmann::json stats = WindowFrameJson(w, true);
     for (auto& kv : stats.items()) f[kv.key()] = kv.value();
     keyframes += w.keyframe;
     imu_only += w.imu_only && !w.stationary;
@@ -119,7 +97,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
     window_lines = w.window_lines;
     if (own) {
       nlohmann::json times = {{"total", odometry_ms}};
-      for (int s = 0; s < window::kNumWindowStages; ++s) times[kStageNames[s]] = window_ms[s];
+      for (int s = 0; s < window::kNumWindowStages; ++s) times[kWindowStageNames[s]] = window_ms[s];
       f["ms"] = times;
     }
   }
@@ -143,7 +121,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
   }
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < window::kNumWindowStages; ++s)
-    stages[kStageNames[s]] = window_frames_ > 0 ? stage_total_[s] / window_frames_ : 0.0;
+    stages[kWindowStageNames[s]] = window_frames_ > 0 ? stage_total_[s] / window_frames_ : 0.0;
   const odometry::VioInitialization& init = vio.initialization();
   nlohmann::json events = nlohmann::json::array();
   for (const odometry::VioInitEvent& e : init.events) events.push_back(EventJson(e));
@@ -152,7 +130,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
   out["initialization"] = {{"method", init.method},
                            {"frames", {init.first, init.second}},
                            {"events", events},
-                           {"state_first", StateJson(init.state_first)}};
+                           {"state_first", InertialStateJson(init.state_first)}};
   const double duration = times_.empty() ? 0.0 : times_.back() - times_.front();
   const int poses = static_cast<int>(
       std::count_if(vio.RefinedTrajectory().begin(), vio.RefinedTrajectory().end(),

@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "pipeline_json.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
 
@@ -12,37 +13,12 @@ namespace plucker {
 namespace app {
 namespace {
 
-const char* kVoStageNames[kNumVoStages] = {"read",  "points",          "detection",
-                                           "lines", "tracking",        "triangulation",
-                                           "solve", "marginalization", "other"};
-
-nlohmann::json WindowJson(const window::WindowFrameResult& r) {
-  return {{"keyframe", r.keyframe},
-          {"tracked_points", r.tracked_points},
-          {"tracked_lines", r.tracked_lines},
-          {"pnp_fallback", r.pnp_fallback},
-          {"new_points", r.new_points},
-          {"new_lines", r.new_lines},
-          {"window_points", r.window_points},
-          {"window_lines", r.window_lines},
-          {"window_keyframes", r.window_keyframes},
-          {"parallax_px", r.parallax_px},
-          {"tracking_iterations", r.tracking_iterations},
-          {"window_iterations", r.window_iterations},
-          {"initial_cost", r.initial_cost},
-          {"final_cost", r.final_cost},
-          {"residuals", r.residuals},
-          {"culled_observations", r.culled_observations},
-          {"marginalized_keyframes", r.marginalized_keyframes},
-          {"marginalized_landmarks", r.marginalized_landmarks},
-          {"dropped_point_observations", r.dropped_point_observations},
-          {"dropped_line_observations", r.dropped_line_observations},
-          {"held_line_observations", r.held_line_observations},
-          {"dropped_retained_line_observations", r.dropped_retained_line_observations},
-          {"retained_poses", r.retained_poses},
-          {"prior_lines", r.prior_lines},
-          {"prior_rank", r.prior_rank},
-          {"marginalization_failed", r.marginalization_failed}};
+// The JSON name of a VoStage: read, the front end's stages, the window's stages, other.
+const char* VoStageName(int s) {
+  if (s == kRead) return kReadStageName;
+  if (s < kTracking) return kFrontendStageNames[s - kPoints];
+  if (s < kOther) return kWindowStageNames[s - kTracking];
+  return kOtherStageName;
 }
 
 nlohmann::json MapJson(const odometry::MonocularMap& m) {
@@ -77,7 +53,7 @@ void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
   for (int i = 0; i < n; ++i) {
     const odometry::MonocularFrameRecord& r = records[i];
     const VoFrameLog& f = log.frames[i];
-    nlohmann::json j = r.window ? WindowJson(*r.window) : nlohmann::json::object();
+    nlohmann::json j = r.window ? WindowFrameJson(*r.window, false) : nlohmann::json::object();
     if (!f.frontend.is_null()) j["frontend"] = f.frontend;
     j["frame"] = i;
     j["time"] = r.time;
@@ -86,13 +62,13 @@ void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
     j["online"] = {{"status", odometry::ToString(f.online)}, {"has_pose", f.online_pose}};
     double total = 0.0;
     for (int s = 0; s < kNumVoStages; ++s) {
-      j["ms"][kVoStageNames[s]] = f.ms[s];
+      j["ms"][VoStageName(s)] = f.ms[s];
       stage_total[s] += f.ms[s];
       total += f.ms[s];
     }
     j["ms"]["total"] = total;
     if (!f.frontend.is_null())  // the image's own stages, where they were before (kept)
-      for (int s = kRead; s <= kLines; ++s) j["frontend"]["ms"][kVoStageNames[s]] = f.ms[s];
+      for (int s = kRead; s <= kLines; ++s) j["frontend"]["ms"][VoStageName(s)] = f.ms[s];
     frame_ms.push_back(total);
     if (f.online != odometry::MonocularStatus::kTracking &&
         f.online != odometry::MonocularStatus::kLost)
@@ -105,16 +81,16 @@ void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
   nlohmann::json stages = nlohmann::json::object(), pipeline = nlohmann::json::object();
   for (int s = kTracking; s <= kMargin; ++s) {
     window_ms += stage_total[s];
-    stages[kVoStageNames[s]] = wf > 0 ? stage_total[s] / wf : 0.0;
+    stages[VoStageName(s)] = wf > 0 ? stage_total[s] / wf : 0.0;
   }
   double cpu_ms = log.finish_ms;
   for (int s = 0; s < kNumVoStages; ++s) {
-    pipeline[kVoStageNames[s]] = n > 0 ? stage_total[s] / n : 0.0;
+    pipeline[VoStageName(s)] = n > 0 ? stage_total[s] / n : 0.0;
     cpu_ms += stage_total[s];
   }
   nlohmann::json frontend = nlohmann::json::object();
   for (int s = kPoints; s <= kLines; ++s)
-    frontend[kVoStageNames[s]] = n > 0 ? stage_total[s] / n : 0.0;
+    frontend[VoStageName(s)] = n > 0 ? stage_total[s] / n : 0.0;
   nlohmann::json maps = nlohmann::json::array();
   for (const odometry::MonocularMap& m : vo.Maps()) maps.push_back(MapJson(m));
   const window::SlidingWindowOptions& w = config.window;

@@ -5,18 +5,10 @@
 
 #include <Eigen/SVD>
 
+#include "plucker/geometry/median.h"
+
 namespace plucker {
 namespace eval {
-namespace {
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-}  // namespace
-
 CameraSetErrors CompareCameraSets(const std::vector<std::optional<SE3d>>& est,
                                   const std::vector<SE3d>& gt, AlignmentMode mode) {
   CameraSetErrors out;
@@ -61,12 +53,12 @@ CameraSetErrors CompareCameraSets(const std::vector<std::optional<SE3d>>& est,
     out.rotation_error_deg.push_back((R_o * e[i].rotation()).angularDistance(g[i].rotation()) *
                                      kDeg);
   }
-  out.median_rotation_centres_deg = Median(out.rotation_error_centres_deg);
+  out.median_rotation_centres_deg = MidpointMedian(out.rotation_error_centres_deg);
   out.max_rotation_centres_deg = *std::max_element(out.rotation_error_centres_deg.begin(),
                                                    out.rotation_error_centres_deg.end());
-  out.median_centre = Median(out.centre_error);
+  out.median_centre = MidpointMedian(out.centre_error);
   out.max_centre = *std::max_element(out.centre_error.begin(), out.centre_error.end());
-  out.median_rotation_deg = Median(out.rotation_error_deg);
+  out.median_rotation_deg = MidpointMedian(out.rotation_error_deg);
   out.max_rotation_deg =
       *std::max_element(out.rotation_error_deg.begin(), out.rotation_error_deg.end());
   out.ok = true;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "plucker/geometry/median.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/sensor/lidar_model.h"
@@ -220,11 +221,6 @@ TEST(LidarOdometryStepsTest, MapUpdatePlacesPointsAtThePoseAndDropsFarVoxels) {
 
 std::string KittiRoot() { return std::string(PLUCKER_SHARED_DATA_DIR) + "/kitti-odometry-00"; }
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 // End-to-end on the real KITTI extract: per-frame relative pose error against poses/00.txt
 // (cam0 frame, compared through Tr). A correctness test, not a timing one.
 //
@@ -261,7 +257,7 @@ TEST(LidarOdometryTest, KittiExtractPerFrameAccuracy) {
     dt.push_back(E.translation().norm());
     dr.push_back(AngleDeg(E.rotation()));
   }
-  const double med_t = Median(dt), med_r = Median(dr);
+  const double med_t = MidpointMedian(dt), med_r = MidpointMedian(dr);
   RecordProperty("median_rpe_cm", std::to_string(100 * med_t));
   RecordProperty("median_rpe_deg", std::to_string(med_r));
   std::printf("KITTI 00 frames 0-%zu: median RPE %.2f cm, %.4f deg (last pair %.2f cm)\n",

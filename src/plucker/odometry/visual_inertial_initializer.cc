@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "plucker/factors/imu_preintegration.h"
+#include "plucker/geometry/median.h"
 #include "plucker/inertial/initialization_choice.h"
 #include "plucker/inertial/visual_inertial_alignment.h"
 #include "plucker/window/two_view_initialization.h"
@@ -45,8 +47,7 @@ std::optional<inertial::ImageMotionFlag> ImageMotion(const window::FrameInput& p
     if (it != previous.end()) d.push_back((p.uv - it->second).norm());
   }
   if (d.size() < 5) return std::nullopt;
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return inertial::ImageMotionFlag{frame.time, d[d.size() / 2] <= still_px};
+  return inertial::ImageMotionFlag{frame.time, UpperMedian(std::move(d)) <= still_px};
 }
 
 struct VisualInertialInitializer::Impl {

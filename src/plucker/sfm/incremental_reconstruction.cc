@@ -19,7 +19,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "plucker/ba/bundle_adjustment.h"
+#include "plucker/geometry/median.h"
 #include "plucker/geometry/point_projection.h"
+#include "plucker/geometry/so3.h"
+#include "plucker/vision/pnp_ransac.h"
 
 namespace plucker {
 namespace sfm {
@@ -146,12 +149,6 @@ Eigen::Vector2d Normalized(const PinholeIntrinsics& K, const Eigen::Vector2d& uv
   return K.ToNormalized<double>(uv);
 }
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& t) {
-  Eigen::Matrix3d s;
-  s << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
-  return s;
-}
-
 // A FLANN index (randomised kd-trees) over one view's descriptors. Built on one thread: the
 // trees draw from the C library's rand(), so building them in a fixed order keeps the matches
 // repeatable; the searches are deterministic and may run in parallel (one index per task).
@@ -207,12 +204,6 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
   work();
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 class Reconstruction {
@@ -294,41 +285,30 @@ class Reconstruction {
   bool Verify(int a, int b, cv::flann::Index* index_b, VerifiedPair* p) const {
     const auto matches = MatchDescriptors(views_[a].descriptors, index_b, o_.match_ratio);
     if (static_cast<int>(matches.size()) < std::max(o_.min_pair_inliers, 5)) return false;
-    std::vector<cv::Point2d> xa, xb;
+    std::vector<Eigen::Vector2d> xa, xb;
     for (const auto& [i, j] : matches) {
-      const Eigen::Vector2d na = Normalized(K_, views_[a].keypoints[i]);
-      const Eigen::Vector2d nb = Normalized(K_, views_[b].keypoints[j]);
-      xa.emplace_back(na.x(), na.y());
-      xb.emplace_back(nb.x(), nb.y());
+      xa.push_back(Normalized(K_, views_[a].keypoints[i]));
+      xb.push_back(Normalized(K_, views_[b].keypoints[j]));
     }
-    const double f = 0.5 * (K_.fx + K_.fy);
-    cv::Mat mask;
-    cv::Mat E = cv::findEssentialMat(xa, xb, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
-                                     o_.essential_threshold_px / f, mask);
-    if (E.rows < 3 || E.cols != 3) return false;
-    E = E.rowRange(0, 3).clone();
-    cv::Mat R, t;
-    const int good = cv::recoverPose(E, xa, xb, R, t, 1.0, cv::Point2d(0, 0), mask);
-    if (good < o_.min_pair_inliers) return false;
-    Eigen::Matrix3d Re;
-    Eigen::Vector3d te;
-    for (int r = 0; r < 3; ++r) {
-      te(r) = t.at<double>(r);
-      for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
-    }
+    vision::EssentialPoseOptions eo;
+    eo.threshold = o_.essential_threshold_px / (0.5 * (K_.fx + K_.fy));
+    eo.confidence = 0.999;
+    eo.take_first_of_several = true;
+    const vision::EssentialPoseResult e = vision::EssentialPose(xa, xb, eo);
+    if (!e.ok() || e.inliers < o_.min_pair_inliers) return false;
+    const Eigen::Matrix3d& Re = e.R_b_a;
     p->a = a;
     p->b = b;
-    p->T_b_a = SE3d(Re, te.normalized());
+    p->T_b_a = SE3d(Re, e.t_b_a.normalized());
     std::vector<double> angles;
     for (std::size_t k = 0; k < matches.size(); ++k) {
-      if (!mask.at<uchar>(static_cast<int>(k))) continue;
+      if (!e.inlier_mask[k]) continue;
       p->matches.push_back(matches[k]);
-      const Eigen::Vector3d ra = Eigen::Vector3d(xa[k].x, xa[k].y, 1.0).normalized();
-      const Eigen::Vector3d rb =
-          Re.transpose() * Eigen::Vector3d(xb[k].x, xb[k].y, 1.0).normalized();
+      const Eigen::Vector3d ra = xa[k].homogeneous().normalized();
+      const Eigen::Vector3d rb = Re.transpose() * xb[k].homogeneous().normalized();
       angles.push_back(std::acos(std::clamp(ra.dot(rb), -1.0, 1.0)) * 180.0 / M_PI);
     }
-    p->median_angle_deg = Median(angles);
+    p->median_angle_deg = UpperMedian(angles);
     return true;
   }
 
@@ -440,45 +420,34 @@ class Reconstruction {
     const int v = best;
     std::vector<int> ids;
     const auto corr = Correspondences(v, &ids);
-    std::vector<cv::Point3d> obj;
-    std::vector<cv::Point2d> img;
+    std::vector<Eigen::Vector3d> obj;
+    std::vector<Eigen::Vector2d> img;
     for (const auto& [p, uv] : corr) {
-      obj.emplace_back(p.x(), p.y(), p.z());
-      img.emplace_back(uv.x(), uv.y());
+      obj.push_back(p);
+      img.push_back(uv);
     }
-    cv::Mat Kcv = (cv::Mat_<double>(3, 3) << K_.fx, 0, K_.cx, 0, K_.fy, K_.cy, 0, 0, 1);
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    bool ok = false;
-    try {
-      ok = cv::solvePnPRansac(obj, img, Kcv, cv::noArray(), rvec, tvec, false, 1000,
-                              static_cast<float>(o_.pnp_threshold_px), 0.9999, inliers,
-                              cv::SOLVEPNP_AP3P);
-    } catch (const cv::Exception&) {
-      ok = false;
-    }
-    if (!ok || static_cast<int>(inliers.size()) < o_.min_pnp_inliers) {
-      failed_count_[v] = best_count;
-      status_[v] = "PnP failed: " + std::to_string(inliers.size()) + " inliers of " +
-                   std::to_string(best_count) + " correspondences";
-      Progress("view " + std::to_string(v) + ": " + status_[v]);
-      return true;  // other views may still register
-    }
-    cv::Mat Rcv;
-    cv::Rodrigues(rvec, Rcv);
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
-    for (int r = 0; r < 3; ++r) {
-      t(r) = tvec.at<double>(r);
-      for (int c = 0; c < 3; ++c) R(r, c) = Rcv.at<double>(r, c);
-    }
-    const SE3d T_c_w(R, t);
-    if (!T_c_w.translation().allFinite() || !T_c_w.rotation().coeffs().allFinite()) {
+    vision::PnpRansacOptions pnp;
+    pnp.solver = vision::PnpSolver::kAp3p;
+    pnp.iterations = 1000;
+    pnp.threshold_px = o_.pnp_threshold_px;
+    pnp.confidence = 0.9999;
+    pnp.min_correspondences = 0;  // the caller checked best_count >= min_pnp_inliers
+    pnp.min_inliers = o_.min_pnp_inliers;
+    const vision::PnpRansacResult r = vision::PnpRansac(obj, img, K_, pnp);
+    if (r.status == vision::PnpStatus::kNotFinite) {
       failed_count_[v] = best_count;
       status_[v] = "PnP gave a non-finite pose";
       return true;
     }
-    pose_[v] = T_c_w.Inverse();
+    if (!r.ok()) {
+      failed_count_[v] = best_count;
+      status_[v] = "PnP failed: " + std::to_string(r.inliers.size()) + " inliers of " +
+                   std::to_string(best_count) + " correspondences";
+      Progress("view " + std::to_string(v) + ": " + status_[v]);
+      return true;  // other views may still register
+    }
+    const std::vector<int>& inliers = r.inliers;
+    pose_[v] = r.T_c_w.Inverse();
     // Correspondences that PnP rejected are outliers of their tracks in this view.
     std::vector<char> is_inlier(corr.size(), 0);
     for (int i : inliers) is_inlier[i] = 1;
@@ -591,7 +560,7 @@ class Reconstruction {
     ParallelFor(static_cast<int>(others.size()), o_.num_threads, [&](int k) {
       const int r = others[k];
       const SE3d T_v_r = pose_[v]->Inverse() * *pose_[r];
-      const Eigen::Matrix3d E = Skew(T_v_r.translation()) * T_v_r.RotationMatrix();
+      const Eigen::Matrix3d E = Hat(T_v_r.translation()) * T_v_r.RotationMatrix();
       const Eigen::Matrix3d Kinv = K_.K().inverse();
       const Eigen::Matrix3d F_v_r = Kinv.transpose() * E * Kinv;
       matches[k] = vision::MatchLines(views_[r].lines, views_[v].lines, o_.line_matcher, F_v_r);

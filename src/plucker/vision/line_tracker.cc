@@ -9,20 +9,11 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "plucker/geometry/so3.h"
 #include "plucker/vision/point_tracker.h"
 
 namespace plucker {
 namespace vision {
-namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
-
 LineTracker::LineTracker(const LineTrackerOptions& options) : options_(options) {
   if (options_.max_lost_frames < 0) {
     throw std::invalid_argument("LineTracker: max_lost_frames must be >= 0");
@@ -290,20 +281,14 @@ std::optional<Eigen::Matrix3d> FundamentalFromPointTracks(
     p1.emplace_back(o.uv.x(), o.uv.y());
   }
   if (static_cast<int>(p0.size()) < std::max(min_points, 8)) return std::nullopt;
-  cv::Mat model;
-  if (K) {
-    const cv::Matx33d Kcv(K->fx, 0, K->cx, 0, K->fy, K->cy, 0, 0, 1);
-    model = cv::findEssentialMat(p0, p1, Kcv, cv::RANSAC, 0.999, threshold_px);
-  } else {
-    model = cv::findFundamentalMat(p0, p1, cv::FM_RANSAC, threshold_px, 0.999);
-  }
+  const cv::Mat model = EpipolarModel(p0, p1, K, threshold_px, 0.999);
   return FundamentalOfModel(model, K);  // none, or several solutions: nullopt
 }
 
 Eigen::Matrix3d FundamentalFromPoses(const PinholeIntrinsics& K, const SE3d& T_w_a,
                                      const SE3d& T_w_b) {
   const SE3d T_b_a = T_w_b.Inverse() * T_w_a;
-  const Eigen::Matrix3d E = Skew(T_b_a.translation()) * T_b_a.rotation().toRotationMatrix();
+  const Eigen::Matrix3d E = Hat(T_b_a.translation()) * T_b_a.rotation().toRotationMatrix();
   const Eigen::Matrix3d K_inv = K.K().inverse();
   return K_inv.transpose() * E * K_inv;
 }

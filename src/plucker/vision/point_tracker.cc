@@ -52,6 +52,16 @@ std::optional<Eigen::Matrix3d> FundamentalOfModel(const cv::Mat& model,
   return M / M.norm();
 }
 
+cv::Mat EpipolarModel(cv::InputArray p0, cv::InputArray p1,
+                      const std::optional<PinholeIntrinsics>& K, double threshold_px,
+                      double confidence, cv::OutputArray inliers) {
+  if (K) {
+    const cv::Matx33d Kcv(K->fx, 0, K->cx, 0, K->fy, K->cy, 0, 0, 1);
+    return cv::findEssentialMat(p0, p1, Kcv, cv::RANSAC, confidence, threshold_px, inliers);
+  }
+  return cv::findFundamentalMat(p0, p1, cv::FM_RANSAC, threshold_px, confidence, inliers);
+}
+
 PointTracker::PointTracker(const PointTrackerOptions& options,
                            const std::optional<PinholeIntrinsics>& K)
     : options_(options), K_(K) {
@@ -136,15 +146,8 @@ void PointTracker::RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points,
     next.emplace_back(static_cast<float>(o.uv.x()), static_cast<float>(o.uv.y()));
   }
   std::vector<unsigned char> inlier;
-  cv::Mat model;
-  if (K_) {
-    const cv::Matx33d K(K_->fx, 0, K_->cx, 0, K_->fy, K_->cy, 0, 0, 1);
-    model = cv::findEssentialMat(*prev_points, next, K, cv::RANSAC, options_.ransac_confidence,
-                                 options_.ransac_threshold_px, inlier);
-  } else {
-    model = cv::findFundamentalMat(*prev_points, next, cv::FM_RANSAC, options_.ransac_threshold_px,
-                                   options_.ransac_confidence, inlier);
-  }
+  const cv::Mat model = EpipolarModel(*prev_points, next, K_, options_.ransac_threshold_px,
+                                      options_.ransac_confidence, inlier);
   if (model.empty() || inlier.size() != obs.size()) return;  // no model: keep all, not run
   out->stats.ransac_run = true;
   out->F_cur_prev = FundamentalOfModel(model, K_);

@@ -99,5 +99,14 @@ class PointTracker {
 std::optional<Eigen::Matrix3d> FundamentalOfModel(const cv::Mat& model,
                                                   const std::optional<PinholeIntrinsics>& K);
 
+// The RANSAC epipolar model of the pixel matches p0[i] -> p1[i] (the point tracker's outlier
+// rejection and the line tracker's gate): with K the essential matrix (five-point), without it
+// the fundamental matrix (eight-point); threshold in pixels; inliers: optional mask per match.
+// The points are passed through to OpenCV as they are (float or double). Read the model with
+// FundamentalOfModel.
+cv::Mat EpipolarModel(cv::InputArray p0, cv::InputArray p1,
+                      const std::optional<PinholeIntrinsics>& K, double threshold_px,
+                      double confidence, cv::OutputArray inliers = cv::noArray());
+
 }  // namespace vision
 }  // namespace plucker

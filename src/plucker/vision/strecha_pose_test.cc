@@ -13,6 +13,7 @@
 #include <opencv2/features2d.hpp>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/geometry/so3.h"
 #include "plucker/io/camera_calibration.h"
 #include "plucker/io/image_folder.h"
 
@@ -34,12 +35,6 @@ Eigen::Matrix3d ReducedK(const PinholeIntrinsics& K) {
   return k.K();
 }
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& t) {
-  Eigen::Matrix3d s;
-  s << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
-  return s;
-}
-
 // Sampson distance [px] of a match under the fundamental matrix F (x2^T F x1 = 0).
 double Sampson(const Eigen::Matrix3d& F, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2) {
   const Eigen::Vector3d x1 = p1.homogeneous(), x2 = p2.homogeneous();
@@ -57,7 +52,7 @@ struct Fit {
 Fit FitPoses(const SE3d& T_w_c1, const SE3d& T_w_c2, const Eigen::Matrix3d& K,
              const std::vector<Eigen::Vector2d>& p1, const std::vector<Eigen::Vector2d>& p2) {
   const SE3d T_c2_c1 = T_w_c2.Inverse() * T_w_c1;
-  const Eigen::Matrix3d E = Skew(T_c2_c1.translation()) * T_c2_c1.RotationMatrix();
+  const Eigen::Matrix3d E = Hat(T_c2_c1.translation()) * T_c2_c1.RotationMatrix();
   const Eigen::Matrix3d F = K.inverse().transpose() * E * K.inverse();
   std::vector<double> d;
   int inliers = 0, in_front = 0;

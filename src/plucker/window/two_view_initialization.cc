@@ -3,10 +3,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/core/eigen.hpp>
 #include <unordered_map>
+#include <utility>
+
+#include "plucker/geometry/median.h"
+#include "plucker/vision/pnp_ransac.h"
 
 namespace plucker {
 namespace window {
@@ -20,7 +21,7 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
   std::unordered_map<int, Eigen::Vector2d> uv_a;
   for (const auto& p : a)
     if (p.point_id >= 0 && p.uv.allFinite()) uv_a[p.point_id] = p.uv;
-  std::vector<cv::Point2d> xa, xb;  // normalised coordinates
+  std::vector<Eigen::Vector2d> xa, xb;  // normalised coordinates
   std::vector<Eigen::Vector2d> pa, pb;
   for (const auto& p : b) {
     const auto it = uv_a.find(p.point_id);
@@ -35,26 +36,24 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
     result.message = "too few common point tracks (" + std::to_string(result.common_tracks) + ")";
     return result;
   }
-  const double f = 0.5 * (K.fx + K.fy);
-  cv::Mat inlier_mask;
-  const cv::Mat E = cv::findEssentialMat(xa, xb, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
-                                         options.ransac_threshold_px / f, inlier_mask);
-  if (E.rows != 3 || E.cols != 3) {
-    result.message = "no essential matrix";
+  vision::EssentialPoseOptions eo;
+  eo.threshold = options.ransac_threshold_px / (0.5 * (K.fx + K.fy));
+  eo.confidence = 0.999;
+  eo.take_first_of_several = false;
+  const vision::EssentialPoseResult e = vision::EssentialPose(xa, xb, eo);
+  if (!e.ok()) {
+    result.message = e.message;
     return result;
   }
-  cv::Mat R, t;
-  result.inliers = cv::recoverPose(E, xa, xb, R, t, 1.0, cv::Point2d(0, 0), inlier_mask);
+  result.inliers = e.inliers;
   if (result.inliers < options.min_inliers ||
       result.inliers < options.min_inlier_ratio * result.common_tracks) {
     result.message = "too few inliers (" + std::to_string(result.inliers) + " of " +
                      std::to_string(result.common_tracks) + ")";
     return result;
   }
-  Eigen::Matrix3d R_b_a;
-  Eigen::Vector3d t_b_a;
-  cv::cv2eigen(R, R_b_a);
-  cv::cv2eigen(t, t_b_a);
+  const Eigen::Matrix3d& R_b_a = e.R_b_a;
+  const Eigen::Vector3d& t_b_a = e.t_b_a;
   if (R_b_a_known) {
     const Eigen::AngleAxisd diff(Eigen::Matrix3d(R_b_a_known->transpose() * R_b_a));
     result.rotation_disagreement_deg = std::abs(diff.angle()) * 180.0 / M_PI;
@@ -67,8 +66,8 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
   // Rotation-compensated parallax of the inliers.
   std::vector<double> parallax;
   for (std::size_t i = 0; i < xa.size(); ++i) {
-    if (!inlier_mask.at<uchar>(static_cast<int>(i))) continue;
-    const Eigen::Vector3d ray = R_b_a * Eigen::Vector3d(xa[i].x, xa[i].y, 1.0);
+    if (!e.inlier_mask[i]) continue;
+    const Eigen::Vector3d ray = R_b_a * xa[i].homogeneous();
     if (ray.z() <= 1e-9) continue;
     const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
     parallax.push_back((uv - pb[i]).norm());
@@ -77,8 +76,7 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
     result.message = "no inlier in front of both cameras";
     return result;
   }
-  std::nth_element(parallax.begin(), parallax.begin() + parallax.size() / 2, parallax.end());
-  result.parallax_px = parallax[parallax.size() / 2];
+  result.parallax_px = UpperMedian(std::move(parallax));
   if (result.parallax_px < options.min_parallax_px) {
     result.message = "too little parallax (" + std::to_string(result.parallax_px) + " px)";
     return result;

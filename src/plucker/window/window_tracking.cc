@@ -1,11 +1,10 @@
 // Predict and track: the next frame's predicted pose, its motion-only refinement against the
 // window's landmarks (frame_tracker.h) with outlier flagging, and the PnP RANSAC fallback.
-#include <opencv2/calib3d.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "plucker/vision/pnp_ransac.h"
 #include "plucker/window/frame_tracker.h"
 #include "plucker/window/window_internal.h"
 
@@ -122,30 +121,24 @@ TrackResult SlidingWindowEstimator::Impl::Track(Frame* f, const SE3d& guess,
 
 // The pose from PnP RANSAC of the frame's point tracks against the window's points, or nullopt.
 std::optional<SE3d> SlidingWindowEstimator::Impl::PnpPose(const Frame& f) const {
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;
+  std::vector<Eigen::Vector3d> points_w;
+  std::vector<Eigen::Vector2d> uv;
   for (const auto& p : f.input.points) {
     const auto it = points.find(p.point_id);
     if (it == points.end()) continue;
-    object.emplace_back(it->second->p[0], it->second->p[1], it->second->p[2]);
-    image.emplace_back(p.uv.x(), p.uv.y());
+    points_w.emplace_back(it->second->p[0], it->second->p[1], it->second->p[2]);
+    uv.push_back(p.uv);
   }
-  if (static_cast<int>(object.size()) < std::max(opt.pnp_min_inliers, 6)) return std::nullopt;
-  const cv::Matx33d Kcv(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> inliers;
-  const bool ok = cv::solvePnPRansac(object, image, Kcv, cv::noArray(), rvec, tvec, false, 200,
-                                     static_cast<float>(opt.pnp_threshold_px), 0.999, inliers,
-                                     cv::SOLVEPNP_EPNP);
-  if (!ok || static_cast<int>(inliers.size()) < opt.pnp_min_inliers) return std::nullopt;
-  cv::Matx33d R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Matrix3d R_c_w;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R_c_w(r, c) = R(r, c);
-  const Eigen::Vector3d t_c_w(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
-  if (!R_c_w.allFinite() || !t_c_w.allFinite()) return std::nullopt;
-  return SE3d(Eigen::Quaterniond(R_c_w), t_c_w).Inverse();
+  vision::PnpRansacOptions pnp;
+  pnp.solver = vision::PnpSolver::kEpnp;
+  pnp.iterations = 200;
+  pnp.threshold_px = opt.pnp_threshold_px;
+  pnp.confidence = 0.999;
+  pnp.min_correspondences = std::max(opt.pnp_min_inliers, 6);
+  pnp.min_inliers = opt.pnp_min_inliers;
+  const vision::PnpRansacResult r = vision::PnpRansac(points_w, uv, K, pnp);
+  if (!r.ok()) return std::nullopt;
+  return r.T_c_w.Inverse();
 }
 
 }  // namespace window
