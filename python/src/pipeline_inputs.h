@@ -41,7 +41,7 @@ cv::Mat GrayImageView(const py::array& image, const char* who);
 window::FrameInput FrameArg(double t, const py::handle& points, const py::handle& segments,
                             int frame, const char* who);
 
-py::dict WindowDict(const window::FrameResult& r);
+py::dict WindowDict(const window::WindowFrameResult& r);
 
 // f() with the GIL released and `mutex` held: the lock is taken without the GIL and given back
 // before the GIL is taken again (no deadlock with a thread that holds the GIL and waits for it).
