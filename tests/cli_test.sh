@@ -511,8 +511,9 @@ if [ -d "$EUROC/mav0" ]; then
   cp -r "$EUROC/mav0/imu0" "$V/"
   cp "$EUROC/mav0/cam0/sensor.yaml" "$V/cam0/"
   head -21 "$EUROC/mav0/cam0/data.csv" > "$V/cam0/data.csv"
+  EUROC_ABS="$(cd "$EUROC" && pwd)"
   for f in $(tail -n +2 "$V/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
-    cp "$EUROC/mav0/cam0/data/$f" "$V/cam0/data/"
+    ln -s "$EUROC_ABS/mav0/cam0/data/$f" "$V/cam0/data/$f"  # linked, not copied
   done
   expect vio-euroc 0 "20 frames, static initialisation" -- \
     "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc.tum" --json "$T/veuroc.json" --no-lines
@@ -525,6 +526,65 @@ if [ -d "$EUROC/mav0" ]; then
   expect vio-euroc-skipped 0 "skipped .*data.csv:5: .*" -- \
     "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc2.tum" --no-lines --quiet
   expect vio-euroc-skipped-rows 0 "^19$" -- bash -c "grep -vc '^#' '$T/veuroc2.tum'"
+  # Issue 26 part 5 on broken copies of the 20 frames (the PNGs linked, a few frames each):
+  # black and saturated frames, an IMU gap longer than a frame, IMU and images overlapping only
+  # partly (skipped, named and counted, no NaN pose), a T_BS that is not rigid (an error).
+  euroc_copy() {  # NAME: a copy of the 20 frames (links to the PNGs), IMU and calibration
+    cp -r "$T/veuroc" "$T/$1"
+    head -21 "$EUROC/mav0/cam0/data.csv" > "$T/$1/mav0/cam0/data.csv"
+  }
+  row_file() { sed -n "$2p" "$T/$1/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'; }
+  row_ns() { sed -n "$2p" "$T/$1/mav0/cam0/data.csv" | cut -d, -f1; }
+  euroc_copy veuroc_black
+  f=$(row_file veuroc_black 6)
+  rm "$T/veuroc_black/mav0/cam0/data/$f"
+  { printf 'P5\n752 480\n255\n'; head -c 360960 /dev/zero; } > "$T/veuroc_black/mav0/cam0/data/$f"
+  f=$(row_file veuroc_black 9)
+  rm "$T/veuroc_black/mav0/cam0/data/$f"
+  { printf 'P5\n752 480\n255\n'; head -c 360960 /dev/zero | tr '\0' '\377'; } \
+    > "$T/veuroc_black/mav0/cam0/data/$f"
+  expect vio-euroc-black-frame 0 "skipped .*data/$(row_file veuroc_black 6): black image" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_black" --out "$T/vblack.tum" --json "$T/vblack.json" \
+    --no-lines --quiet
+  expect vio-euroc-saturated-frame 0 "skipped .*data/$f: saturated image" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_black" --out "$T/vblack.tum" --no-lines --quiet
+  expect vio-euroc-blank-counted 0 '"skipped_images": 2' -- cat "$T/vblack.json"
+  expect vio-euroc-blank-rows 0 "^18 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vblack.tum') \
+    \$(grep -ci nan '$T/vblack.tum')"
+  euroc_copy veuroc_imu_gap  # no IMU for 0.2 s around frame 10 (row 11): 4 frames long
+  t10=$(row_ns veuroc_imu_gap 11)
+  awk -F, -v t="$t10" 'NR == 1 || $1 < t - 100000000 || $1 > t + 100000000' \
+    "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_imu_gap/mav0/imu0/data.csv"
+  expect vio-euroc-imu-gap 0 "imu0/data.csv: a gap of 0\\.2[0-9]* s.*longer than" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
+  expect vio-euroc-imu-gap-skipped 0 "skipped .*data.csv:11: no IMU coverage \(inside a gap" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
+  expect vio-euroc-imu-gap-rows 0 "^1[5-7] 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vgap_e.tum') \
+    \$(grep -ci nan '$T/vgap_e.tum')"
+  euroc_copy veuroc_partial  # the IMU starts at frame 4 (row 5) and ends at frame 15 (row 16)
+  awk -F, -v a="$(row_ns veuroc_partial 5)" -v b="$(row_ns veuroc_partial 16)" \
+    'NR == 1 || ($1 >= a - 1000 && $1 <= b + 1000)' \
+    "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_partial/mav0/imu0/data.csv"
+  expect vio-euroc-partial-before 0 "skipped .*data.csv:4: no IMU coverage \(before the first" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart.tum" --no-lines --quiet
+  expect vio-euroc-partial-after 0 "skipped .*data.csv:17: no IMU coverage \(after the last" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart.tum" --no-lines --quiet
+  expect vio-euroc-partial-rows 0 "^1[0-2] 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vpart.tum') \
+    \$(grep -ci nan '$T/vpart.tum')"
+  euroc_copy veuroc_shear  # T_BS with a scaled rotation column: not rigid
+  sed -i 's/data: \[0.0148655429818, -0.999880929698/data: [0.0148655429818, -1.2/' \
+    "$T/veuroc_shear/mav0/cam0/sensor.yaml"
+  expect vio-euroc-tbs-not-rigid nonzero "cam0/sensor.yaml: 'T_BS' rotation" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_shear" --out "$T/vio_x.tum"
+  expect vio-euroc-tbs-not-rigid-no-output 0 "" -- test ! -e "$T/vio_x.tum"
+  # Progress: on a log file one plain line every 100 frames and the last, no carriage return;
+  # --quiet: none (the warnings stay).
+  "$PLUCKER" vio --euroc "$T/veuroc_black" --out "$T/vprog.tum" --no-lines 2> "$T/vprog.err"
+  expect vio-progress-log-no-cr 0 "^0 1$" -- bash -c "echo \$(grep -c \$'\\r' '$T/vprog.err') \
+    \$(grep -c 'frame 20/20' '$T/vprog.err')"
+  "$PLUCKER" vio --euroc "$T/veuroc_black" --out "$T/vprog.tum" --no-lines --quiet 2> "$T/vprog.err"
+  expect vio-progress-quiet 0 "^0 2$" -- bash -c "echo \$(grep -c 'frame 20/20' '$T/vprog.err') \
+    \$(grep -c 'warning: skipped' '$T/vprog.err')"
   cp -r "$T/veuroc" "$T/veuroc_bad"
   sed -i '/T_BS/,+6d' "$T/veuroc_bad/mav0/cam0/sensor.yaml"
   expect vio-euroc-missing-field nonzero "cam0/sensor.yaml.*T_BS" -- \

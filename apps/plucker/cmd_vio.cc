@@ -14,6 +14,7 @@
 #include "plucker/io/image_folder.h"
 #include "plucker/io/io_error.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
+#include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vio_config.h"
@@ -36,7 +37,7 @@ const char* kFrontendStages[vision::kNumFrontendStages] = {"points", "detection"
 // One frame through the odometry, timed; EuRoC: the image read here (unreadable: skipped).
 bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* vio,
           VioReport* report, std::vector<odometry::VioFrameRecord>* online,
-          std::vector<std::string>* warnings) {
+          std::vector<std::string>* warnings, FrameProgress* progress) {
   BasicStageClock<window::WindowStage, window::kNumWindowStages> window_ms;
   BasicStageClock<vision::FrontendStage, vision::kNumFrontendStages> frontend_ms;
   odometry::VioFrameResult r;
@@ -48,10 +49,15 @@ bool Feed(const VioInput& in, std::size_t i, odometry::VisualInertialOdometry* v
     const io::EurocFrame& frame = in.images[i];
     try {  // unreadable, or of another size than the calibration
       const cv::Mat image = io::ReadGrayImage(frame.image);
+      const std::string blank = io::BlankImageProblem(image);  // nothing to track: skipped
+      if (!blank.empty()) throw io::IoError(frame.image, blank);
       frontend_total = ThreadCpuMs() - t0;  // reading the image counts to the front end
       r = vio->AddImage(frame.t, image, frontend_ms.Observer(), window_ms.Observer());
     } catch (const std::exception& e) {
-      warnings->push_back(std::string("skipped ") + frame.image + ": " + e.what());
+      const bool named = dynamic_cast<const io::IoError*>(&e) != nullptr;  // names the file
+      warnings->push_back("skipped " + (named ? "" : frame.image + ": ") + e.what());
+      ++report->skipped_images;
+      progress->Break();
       std::cerr << "plucker vio: warning: " << warnings->back() << "\n";
       return false;
     }
@@ -84,9 +90,9 @@ void PrintSummary(const VioArgs& a, const VioReport& report,
   std::cerr << "plucker vio: " << report.frames << " frames, " << init.method
             << " initialisation on frames " << init.first << "-" << init.second << ", "
             << report.keyframes << " keyframes, " << report.imu_only << " IMU-only, "
-            << report.skipped << " skipped; " << std::fixed << std::setprecision(2) << cpu / 1e3
-            << " s CPU for " << duration << " s of data (" << (cpu > 0 ? 1e3 * duration / cpu : 0.0)
-            << "x real time); wrote " << a.out << "\n";
+            << report.skipped + report.skipped_images << " skipped; " << std::fixed
+            << std::setprecision(2) << cpu / 1e3 << " s CPU for " << duration << " s of data ("
+            << (cpu > 0 ? 1e3 * duration / cpu : 0.0) << "x real time); wrote " << a.out << "\n";
   if (!a.cfg.odometry.estimate_extrinsic) return;
   const SE3d T = vio.ExtrinsicEstimate();
   const SE3d& given = in.calibration.T_b_c;
@@ -117,22 +123,20 @@ int Run(const VioArgs& a) {
   report.extrinsic_estimated = cfg.odometry.estimate_extrinsic;
   std::vector<odometry::VioFrameRecord> online;
   std::size_t next_imu = 0;
-  double last_progress = WallMs();
+  FrameProgress progress("plucker vio", n, a.quiet);
   for (std::size_t i = 0; i < n; ++i) {
     const double t = in.images.empty() ? in.frames[i].time : in.images[i].t;
     // A driver delivers the IMU up to the image's timestamp before the image.
     while (next_imu < in.imu.size() && (next_imu == 0 || in.imu[next_imu - 1].t < t))
       vio.AddImu(in.imu[next_imu++]);
-    if (!Feed(in, i, &vio, &report, &online, &in.warnings)) continue;
-    const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i + 1 == n)) {
-      last_progress = now;
-      std::cerr << "\rplucker vio: frame " << (i + 1) << "/" << n << "  keyframes "
-                << report.keyframes << "  points " << report.window_points << "  lines "
-                << report.window_lines << "   " << std::flush;
+    if (!Feed(in, i, &vio, &report, &online, &in.warnings, &progress)) continue;
+    if (progress.Due(i)) {
+      progress.Show(i, "keyframes " + std::to_string(report.keyframes) + "  points " +
+                           std::to_string(report.window_points) + "  lines " +
+                           std::to_string(report.window_lines));
     }
   }
-  if (!a.quiet) std::cerr << "\n";
+  progress.Break();
   while (next_imu < in.imu.size()) vio.AddImu(in.imu[next_imu++]);
   const double t_finish = ThreadCpuMs();
   const odometry::VioFrameResult end = vio.Finish();
@@ -151,6 +155,7 @@ int Run(const VioArgs& a) {
     nlohmann::json out = report.Json(in, vio, read_ms, WallMs() - t_start);
     out["summary"]["use_lines"] = cfg.odometry.use_lines;
     out["summary"]["point_stride"] = cfg.point_stride;
+    out["summary"]["max_imu_only_share"] = cfg.max_imu_only_share;
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) PrintSummary(a, report, vio, in, duration);
@@ -158,7 +163,7 @@ int Run(const VioArgs& a) {
     std::cerr << "plucker vio: warning: " << report.skipped
               << " frames skipped (no IMU coverage or no finite pose; listed in the JSON)\n";
   }
-  return 0;
+  return WarnImuOnly(vio.statistics(), cfg.max_imu_only_share);
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/odometry/monocular_odometry.h"
+#include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vo_config.h"
@@ -89,7 +90,7 @@ int Run(const VoArgs& a, VoConfig config) {
   log.read_ms = WallMs() - t_start;
   log.frames.resize(n);
   std::vector<std::optional<SE3d>> online(n);
-  double last_progress = WallMs();
+  FrameProgress progress("plucker vo", n, a.quiet);
   for (int i = 0; i < n; ++i) {
     VoFrameLog& f = log.frames[i];
     odometry::MonocularFrameResult r;
@@ -102,6 +103,7 @@ int Run(const VoArgs& a, VoConfig config) {
       if (image.empty()) {
         f.frontend["skipped"] = problem;
         ++log.skipped_images;
+        progress.Break();
         std::cerr << "plucker vo: warning: skipped " << problem << "\n";
       }
       VoFrameClock clock;
@@ -119,22 +121,20 @@ int Run(const VoArgs& a, VoConfig config) {
     f.online_pose = r.has_pose;
     if (r.has_pose) online[i] = r.T_w_c;
     if (r.status == odometry::MonocularStatus::kReinitialized && !a.quiet) {
-      std::cerr << "\nplucker vo: re-initialised on frames " << vo->Maps().back().first << " and "
+      progress.Break();
+      std::cerr << "plucker vo: re-initialised on frames " << vo->Maps().back().first << " and "
                 << vo->Maps().back().second << "\n";
     }
-    const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i + 1 == n)) {
-      last_progress = now;
-      std::cerr << "\rplucker vo: frame " << (i + 1) << "/" << n << "  keyframes "
-                << vo->Summary().keyframes << "  lost " << vo->Summary().lost_frames << "   "
-                << std::flush;
+    if (progress.Due(i)) {
+      progress.Show(i, "keyframes " + std::to_string(vo->Summary().keyframes) + "  lost " +
+                           std::to_string(vo->Summary().lost_frames));
     }
   }
   BasicStageClock<window::WindowStage, window::kNumWindowStages> finish_clock;
   const double t_finish = ThreadCpuMs();
   vo->Finish(finish_clock.Observer());
   log.finish_ms = ThreadCpuMs() - t_finish;
-  if (!a.quiet) std::cerr << "\n";
+  progress.Break();
   log.total_wall_ms = WallMs() - t_start;
   WriteVoOutputs(VoOutputs{a.out, a.out_online, a.json, source, a.quiet}, *vo, config, online, log);
   return 0;

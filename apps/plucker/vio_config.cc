@@ -58,6 +58,8 @@ const std::vector<std::pair<std::string, ConfigSetter>>& ConfigFields() {
       {"time_offset_s", Field(&Options::time_offset_s)},
       {"time_offset_prior_sigma_s", Field(&Options::time_offset_prior_sigma_s)},
       {"T_b_c", [](const YAML::Node& n, VioConfig* c) { c->T_b_c = n.as<std::vector<double>>(); }},
+      {"max_imu_only_share",
+       [](const YAML::Node& n, VioConfig* c) { c->max_imu_only_share = n.as<double>(); }},
   };
   return fields;
 }
@@ -93,6 +95,8 @@ void ApplyVioConfig(const std::string& path, VioConfig* c) {
   const std::string problem = c->odometry.Problem();
   if (!problem.empty()) throw io::IoError(path, problem);
   if (c->point_stride < 1) throw io::IoError(path, "an option is out of range (point_stride >= 1)");
+  if (!(c->max_imu_only_share >= 0.0 && c->max_imu_only_share <= 1.0))
+    throw io::IoError(path, "max_imu_only_share must be in [0, 1]");
   const std::vector<double>& e = c->T_b_c;
   const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
   if (!e.empty() &&
