@@ -532,6 +532,9 @@ if [ -d "$EUROC/mav0" ]; then
   euroc_copy() {  # NAME: a copy of the 20 frames (links to the PNGs), IMU and calibration
     cp -r "$T/veuroc" "$T/$1"
     head -21 "$EUROC/mav0/cam0/data.csv" > "$T/$1/mav0/cam0/data.csv"
+    for f in $(tail -n +2 "$T/$1/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
+      ln -sf "$EUROC_ABS/mav0/cam0/data/$f" "$T/$1/mav0/cam0/data/$f"
+    done
   }
   row_file() { sed -n "$2p" "$T/$1/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'; }
   row_ns() { sed -n "$2p" "$T/$1/mav0/cam0/data.csv" | cut -d, -f1; }
@@ -555,22 +558,32 @@ if [ -d "$EUROC/mav0" ]; then
   t10=$(row_ns veuroc_imu_gap 11)
   awk -F, -v t="$t10" 'NR == 1 || $1 < t - 100000000 || $1 > t + 100000000' \
     "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_imu_gap/mav0/imu0/data.csv"
-  expect vio-euroc-imu-gap 0 "imu0/data.csv: a gap of 0\\.2[0-9]* s.*longer than" -- \
+  # At rest the frames after the gap get no zero-motion update (the IMU prediction across the
+  # gap is not believed still) and no landmark is tracked: IMU-only over max_imu_only_share, exit 3.
+  expect vio-euroc-imu-gap nonzero "imu0/data.csv: a gap of 0\\.2[0-9]* s.*longer than" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
-  expect vio-euroc-imu-gap-skipped 0 "skipped .*data.csv:11: no IMU coverage \(inside a gap" -- \
+  expect vio-euroc-imu-gap-skipped nonzero "skipped .*data.csv:11: no IMU coverage \(inside a gap" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
   expect vio-euroc-imu-gap-rows 0 "^1[5-7] 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vgap_e.tum') \
     \$(grep -ci nan '$T/vgap_e.tum')"
-  euroc_copy veuroc_partial  # the IMU starts at frame 4 (row 5) and ends at frame 15 (row 16)
-  awk -F, -v a="$(row_ns veuroc_partial 5)" -v b="$(row_ns veuroc_partial 16)" \
-    'NR == 1 || ($1 >= a - 1000 && $1 <= b + 1000)' \
+  euroc_copy veuroc_partial  # 60 frames; the IMU ends at frame 39 (row 41): the later skipped
+  head -61 "$EUROC/mav0/cam0/data.csv" > "$T/veuroc_partial/mav0/cam0/data.csv"
+  for f in $(tail -n +2 "$T/veuroc_partial/mav0/cam0/data.csv" | cut -d, -f2 | tr -d '\r'); do
+    ln -sf "$EUROC_ABS/mav0/cam0/data/$f" "$T/veuroc_partial/mav0/cam0/data/$f"
+  done
+  awk -F, -v b="$(row_ns veuroc_partial 41)" 'NR == 1 || $1 <= b + 1000' \
     "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_partial/mav0/imu0/data.csv"
-  expect vio-euroc-partial-before 0 "skipped .*data.csv:4: no IMU coverage \(before the first" -- \
+  expect vio-euroc-partial-after 0 "skipped .*data.csv:42: no IMU coverage \(after the last" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart.tum" --no-lines --quiet
-  expect vio-euroc-partial-after 0 "skipped .*data.csv:17: no IMU coverage \(after the last" -- \
-    "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart.tum" --no-lines --quiet
-  expect vio-euroc-partial-rows 0 "^1[0-2] 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vpart.tum') \
+  expect vio-euroc-partial-rows 0 "^40 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vpart.tum') \
     \$(grep -ci nan '$T/vpart.tum')"
+  # The IMU starts at frame 2 (row 4): the frames before are skipped and named. Known limitation
+  # (issue 26 part 5, open): the static start then fails on this clip, a clear error, no output.
+  awk -F, -v a="$(row_ns veuroc_partial 4)" 'NR == 1 || $1 >= a - 1000' \
+    "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_partial/mav0/imu0/data.csv"
+  expect vio-euroc-partial-before nonzero "data.csv:3: no IMU coverage \(before the first" -- \
+    "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart2.tum" --quiet
+  expect vio-euroc-partial-before-no-output 0 "" -- test ! -e "$T/vpart2.tum"
   euroc_copy veuroc_shear  # T_BS with a scaled rotation column: not rigid
   sed -i 's/data: \[0.0148655429818, -0.999880929698/data: [0.0148655429818, -1.2/' \
     "$T/veuroc_shear/mav0/cam0/sensor.yaml"
