@@ -32,6 +32,7 @@ for c in $CASES; do
       [ "$lines" = no ] && [ "$motion" != aggressive ] && continue  # points vs lines: aggressive
       flag=""
       [ "$lines" = no ] && flag="--no-lines"
+      rm -f "$OUT/est.tum" "$OUT/est.json"  # a failed run must not leave the previous one's
       "$P" vio --features "$d" --out "$OUT/est.tum" --json "$OUT/est.json" --quiet $flag \
         2> "$OUT/last.err"
       rc=$?
@@ -55,7 +56,8 @@ print("| scene | Hz | start | motion | lines | runs | median ATE [m] | worst ATE
 print("|---|---|---|---|---|---|---|---|---|---|---|")
 total_over = 0
 for k, g in groups.items():
-    ate = [float(r["ate_m"]) if r["ate_m"] != "nan" else math.inf for r in g]
+    # A run that failed (exit 1: no output) counts as over 0.5 m, its ATE as infinite.
+    ate = [float(r["ate_m"]) if r["ate_m"] != "nan" and r["exit"] != "1" else math.inf for r in g]
     over = sum(a > 0.5 for a in ate)
     total_over += over
     imu = max(int(r["imu_only_frames"]) if r["imu_only_frames"] != "nan" else -1 for r in g)
