@@ -4,7 +4,8 @@
 // moves the points in the image, so the image test took the moving body for standing; the
 // zero-motion updates clamped its velocity to zero, the IMU prediction went wrong and no landmark
 // was ever triangulated (0 points in the window, 258 of 298 frames on the IMU alone, 10 m of
-// error).
+// error). This test on main 292d41d (its window_tracking.cc, window_keyframe_policy.cc): 0 window
+// points, 0 tracked frames, 158 of 198 frames IMU-only, ATE 2.30 m; with the fix it passes.
 #include <gtest/gtest.h>
 
 #include "plucker/eval/ate.h"
