@@ -162,6 +162,11 @@ expect vo-reinit 0 "3 lost, 1 re-initialisations" -- \
   --config "$T/vo_gap5.yaml"
 expect vo-reinit-rows 0 "^30$" -- bash -c "wc -l < '$T/vo_gap.txt'"
 expect vo-reinit-json 0 '"scale": "chained"' -- cat "$T/vo_gap.json"
+# Progress off a terminal (stderr to a file): plain lines, the last frame's, no carriage return.
+"$PLUCKER" vo --features "$T/cam_gap" --out "$T/vo_prog.txt" --config "$T/vo_gap5.yaml" \
+  2> "$T/vo_prog.err"
+expect vo-progress-log-no-cr 0 "^0 1$" -- bash -c "echo \$(grep -c \$'\\r' '$T/vo_prog.err') \
+  \$(grep -c 'plucker vo: frame 30/30' '$T/vo_prog.err')"
 # --out-online: the poses as each frame's call returned them (nan rows: no pose when the frame came,
 # e.g. during the new start's search); --out (the refined view) is the same with it or without.
 expect vo-out-online 0 "^30 nan" -- bash -c "'$PLUCKER' vo --features '$T/cam_gap' --quiet \
