@@ -46,7 +46,7 @@ int RunFromEuroc(const FromEurocArgs& a) {
     ++images;
   }
   writer.Close();
-  for (const std::string& s : euroc.skipped) std::cerr << "  skipped " << s << "\n";
+  for (const io::FrameSkip& s : euroc.skipped) std::cerr << "  skipped " << s.ToString() << "\n";
   if (!a.quiet)
     std::cerr << "plucker bag from-euroc: " << images << " images on " << a.image_topic << ", "
               << euroc.imu.imu.size() << " IMU samples on " << a.imu_topic << " -> " << a.out

@@ -19,6 +19,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
 #include "process_setup.h"
+#include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vio_config.h"
@@ -42,7 +43,7 @@ struct VioArgs {
 // One frame through the odometry, timed; EuRoC: the image read here (unreadable: skipped).
 bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdometry* vio,
           VioReport* report, std::vector<odometry::VioFrameRecord>* online,
-          std::vector<std::string>* warnings) {
+          std::vector<std::string>* warnings, FrameProgress* progress) {
   BasicStageClock<window::WindowStage, window::kNumWindowStages> window_ms;
   BasicStageClock<vision::FrontendStage, vision::kNumFrontendStages> frontend_ms;
   odometry::VioFrameResult r;
@@ -54,10 +55,15 @@ bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdome
     try {  // unreadable, or of another size than the calibration
       if (!item.problem.empty()) throw std::runtime_error(item.problem);
       const cv::Mat image = item.image.empty() ? io::ReadGrayImage(item.name) : item.image;
+      const std::string blank = io::BlankImageProblem(image);  // nothing to track: skipped
+      if (!blank.empty()) throw io::IoError(item.name, blank);
       frontend_total = ThreadCpuMs() - t0;  // reading the image counts to the front end
       r = vio->AddImage(item.t, image, frontend_ms.Observer(), window_ms.Observer());
     } catch (const std::exception& e) {
-      warnings->push_back(std::string("skipped ") + item.name + ": " + e.what());
+      const bool named = dynamic_cast<const io::IoError*>(&e) != nullptr;  // names the file
+      warnings->push_back("skipped " + (named ? "" : item.name + ": ") + e.what());
+      ++report->skipped_images;
+      progress->Break();
       std::cerr << "plucker vio: warning: " << warnings->back() << "\n";
       return false;
     }
@@ -91,9 +97,9 @@ void PrintSummary(const VioArgs& a, const VioReport& report,
   std::cerr << "plucker vio: " << report.frames << " frames, " << init.method
             << " initialisation on frames " << init.first << "-" << init.second << ", "
             << report.keyframes << " keyframes, " << report.imu_only << " IMU-only, "
-            << report.skipped << " skipped; " << std::fixed << std::setprecision(2) << cpu / 1e3
-            << " s CPU for " << duration << " s of data (" << (cpu > 0 ? 1e3 * duration / cpu : 0.0)
-            << "x real time); wrote " << a.out << "\n";
+            << report.skipped + report.skipped_images << " skipped; " << std::fixed
+            << std::setprecision(2) << cpu / 1e3 << " s CPU for " << duration << " s of data ("
+            << (cpu > 0 ? 1e3 * duration / cpu : 0.0) << "x real time); wrote " << a.out << "\n";
   if (!a.cfg.odometry.estimate_extrinsic) return;
   const SE3d T = vio.ExtrinsicEstimate();
   const SE3d& given = in.calibration.T_b_c;
@@ -133,24 +139,21 @@ int Run(const VioArgs& a) {
   VioReport report;
   report.extrinsic_estimated = cfg.odometry.estimate_extrinsic;
   std::vector<odometry::VioFrameRecord> online;
-  double last_progress = WallMs();
+  FrameProgress progress("plucker vio", n, a.quiet);
   std::size_t i = 0;
   for (VioItem item; stream->Next(&item);) {
     if (item.is_imu) {
       vio.AddImu(item.imu);
       continue;
     }
-    ++i;
-    if (!Feed(in, item, &vio, &report, &online, &in.warnings)) continue;
-    const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i == n)) {
-      last_progress = now;
-      std::cerr << "\rplucker vio: frame " << i << "/" << n << "  keyframes " << report.keyframes
-                << "  points " << report.window_points << "  lines " << report.window_lines << "   "
-                << std::flush;
+    if (Feed(in, item, &vio, &report, &online, &in.warnings, &progress) && progress.Due(i)) {
+      progress.Show(i, "keyframes " + std::to_string(report.keyframes) + "  points " +
+                           std::to_string(report.window_points) + "  lines " +
+                           std::to_string(report.window_lines));
     }
+    ++i;
   }
-  if (!a.quiet) std::cerr << "\n";
+  progress.Break();
   for (const std::string& w : stream->warnings()) {
     std::cerr << "plucker vio: warning: " << w << "\n";
     in.warnings.push_back(w);
@@ -172,6 +175,7 @@ int Run(const VioArgs& a) {
     nlohmann::json out = report.Json(in, vio, read_ms, WallMs() - t_start);
     out["summary"]["use_lines"] = cfg.odometry.use_lines;
     out["summary"]["point_stride"] = cfg.point_stride;
+    out["summary"]["max_imu_only_share"] = cfg.max_imu_only_share;
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) PrintSummary(a, report, vio, in, duration);
@@ -179,7 +183,7 @@ int Run(const VioArgs& a) {
     std::cerr << "plucker vio: warning: " << report.skipped
               << " frames skipped (no IMU coverage or no finite pose; listed in the JSON)\n";
   }
-  return 0;
+  return WarnImuOnly(vio.statistics(), cfg.max_imu_only_share);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "plucker/io/sim_format.h"
 #include "plucker/odometry/monocular_odometry.h"
 #include "process_setup.h"
+#include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vo_config.h"
@@ -88,7 +89,7 @@ int Run(const VoArgs& a, VoConfig config) {
   log.point_stride = a.point_stride;
   log.read_ms = WallMs() - t_start;
   std::vector<std::optional<SE3d>> online;
-  double last_progress = WallMs();
+  FrameProgress progress("plucker vo", n, a.quiet);
   VoImage image;
   for (int i = 0;; ++i) {
     VoFrameLog f;
@@ -102,6 +103,7 @@ int Run(const VoArgs& a, VoConfig config) {
       if (image.image.empty()) {
         f.frontend["skipped"] = image.problem;
         ++log.skipped_images;
+        progress.Break();
         std::cerr << "plucker vo: warning: skipped " << image.problem << "\n";
       }
       VoFrameClock clock;
@@ -120,15 +122,13 @@ int Run(const VoArgs& a, VoConfig config) {
     online.push_back(r.has_pose ? std::optional<SE3d>(r.T_w_c) : std::nullopt);
     log.frames.push_back(std::move(f));
     if (r.status == odometry::MonocularStatus::kReinitialized && !a.quiet) {
-      std::cerr << "\nplucker vo: re-initialised on frames " << vo->Maps().back().first << " and "
+      progress.Break();
+      std::cerr << "plucker vo: re-initialised on frames " << vo->Maps().back().first << " and "
                 << vo->Maps().back().second << "\n";
     }
-    const double now = WallMs();
-    if (!a.quiet && (now - last_progress > 500.0 || i + 1 == n)) {
-      last_progress = now;
-      std::cerr << "\rplucker vo: frame " << (i + 1) << "/" << n << "  keyframes "
-                << vo->Summary().keyframes << "  lost " << vo->Summary().lost_frames << "   "
-                << std::flush;
+    if (progress.Due(i)) {
+      progress.Show(i, "keyframes " + std::to_string(vo->Summary().keyframes) + "  lost " +
+                           std::to_string(vo->Summary().lost_frames));
     }
   }
   if (stream)
@@ -138,7 +138,7 @@ int Run(const VoArgs& a, VoConfig config) {
   const double t_finish = ThreadCpuMs();
   vo->Finish(finish_clock.Observer());
   log.finish_ms = ThreadCpuMs() - t_finish;
-  if (!a.quiet) std::cerr << "\n";
+  progress.Break();
   log.total_wall_ms = WallMs() - t_start;
   WriteVoOutputs(VoOutputs{a.out, a.out_online, a.json, source, a.quiet}, *vo, config, online, log);
   return 0;

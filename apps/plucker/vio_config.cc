@@ -114,6 +114,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("input.point_stride", "",
           "features folders: the point tracks whose id is a multiple of this (as --point-stride)",
           AtLeast(1), PLUCKER_OPTION_MEMBER(point_stride));
+  t.Value("checks.max_imu_only_share", "",
+          "exit code 3 when more than this share of the frames had no visual update", Range{0.0, 1.0},
+          PLUCKER_OPTION_MEMBER(max_imu_only_share));
   return t.Take();
 }
 
@@ -130,7 +133,8 @@ const OptionsTable<VioConfig>& VioOptions() {
                  {"lines", "segments of --euroc images, vision/image_frontend.h"},
                  {"extrinsic", "online camera-body extrinsic (docs/vio.md)"},
                  {"time_offset", "online camera-IMU time offset (docs/vio.md)"},
-                 {"input", "what plucker vio reads"}},
+                 {"input", "what plucker vio reads"},
+                 {"checks", "when plucker vio fails (docs/cli.md, exit codes)"}},
                 {{"window", "window.size"},
                  {"prior_on_poses_only", "window.prior_on_poses_only"},
                  {"iterations", "window.iterations"},

@@ -17,6 +17,9 @@ namespace app {
 struct VioConfig {
   odometry::VisualInertialOdometryOptions odometry;
   int point_stride = 1;  // features folders: the point tracks whose id is a multiple of this
+  // The largest share of the window's frames without a visual update (IMU only) of a run that
+  // exits 0 (else exit code 3, docs/cli.md), in [0, 1].
+  double max_imu_only_share = 0.2;
   // The T_b_c to use instead of the input's (rig.txt or sensor.yaml): [tx, ty, tz, qx, qy, qz,
   // qw], the camera in the body frame; empty: the input's.
   std::vector<double> T_b_c;

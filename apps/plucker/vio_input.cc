@@ -28,22 +28,18 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
     if (p.point_id >= 0 && p.point_id % point_stride == 0) frames[p.frame].points.push_back(p);
   for (const auto& s : seq.segments) frames[s.frame].segments.push_back(s);
   // The IMU's coverage of each frame (gaps, before the first or after the last sample): frames
-  // not covered are skipped and named (the EuRoC reader's check; its rows are frame numbers).
+  // not covered are skipped and named (the EuRoC reader's check; `line` holds the frame number).
   std::vector<io::EurocFrame> covered;
   for (std::size_t i = 0; i < frames.size(); ++i)
     covered.push_back({frames[i].time, "", static_cast<int>(i)});
-  std::vector<std::string> skipped, warnings;
-  io::CheckImuCoverage(in.imu, {}, dir + "/frames.txt", &covered, &skipped, &warnings);
-  for (std::string s : skipped) {  // "DIR/frames.txt:I: problem", I the frame number
-    s.insert(dir.size() + 11, " frame");
-    s[dir.size() + 17] = ' ';
-    in.warnings.push_back("skipped " + s);
-  }
-  for (std::string w : warnings) {
-    const std::size_t at = w.find("imu0/data.csv");
-    if (at != std::string::npos) w.replace(at, 13, dir + "/imu.txt");
-    in.warnings.push_back(w);
-  }
+  std::vector<io::FrameSkip> skipped;
+  std::vector<std::string> warnings;
+  io::CheckImuCoverage(in.imu, {}, dir + "/frames.txt", dir + "/imu.txt", &covered, &skipped,
+                       &warnings);
+  for (const io::FrameSkip& s : skipped)
+    in.warnings.push_back("skipped " + s.file + " frame " + std::to_string(s.line) + ": " +
+                          s.reason);
+  in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
   for (const io::EurocFrame& f : covered) {
     in.frames.push_back(std::move(frames[f.line]));
     if (seq.ground_truth) {
@@ -65,7 +61,7 @@ VioInput ReadVioEuroc(const std::string& dir) {
   in.imu = std::move(data.imu.imu);
   in.images = std::move(data.frames);
   in.gt_states = std::move(data.imu.ground_truth);
-  for (const std::string& s : data.skipped) in.warnings.push_back("skipped " + s);
+  for (const io::FrameSkip& s : data.skipped) in.warnings.push_back("skipped " + s.ToString());
   in.warnings.insert(in.warnings.end(), data.warnings.begin(), data.warnings.end());
   return in;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
 #include "pipeline_json.h"
@@ -142,6 +143,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
       {"imu_only_frames", imu_only},
       {"stationary_frames", stationary},
       {"skipped_frames", skipped},
+      {"skipped_images", skipped_images},
       {"marginalized_keyframes", marginalized_},
       {"failed_marginalizations", failed_marginalizations_},
       {"mean_imu_chi2_keyframes", keyframes > 2 ? chi2_total_ / (keyframes - 2) : 0.0},
@@ -166,9 +168,42 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
       {"T_b_c", PoseJson(T)},
       {"rotation_change_deg", AngleDeg(given, T)},
       {"translation_change_m", (T.translation() - given.translation()).norm()}};
+  const odometry::VioStatistics& st = vio.statistics();
+  nlohmann::json stretches = nlohmann::json::array();
+  for (const odometry::VioImuOnlyStretch& s : st.imu_only_stretches)
+    stretches.push_back({{"frames", {s.first, s.last}}, {"seconds", {s.t_first, s.t_last}}});
+  out["summary"]["imu_only_share"] = st.ImuOnlyShare();
+  out["summary"]["imu_only_stretches"] = stretches;
   // Kalibr's convention: t_imu = t_cam + offset (IMU stamps 8 ms late read +0.008).
   out["summary"]["camera_imu_time_offset_s"] = vio.TimeOffsetEstimate();
   return out;
+}
+
+int WarnImuOnly(const odometry::VioStatistics& stats, double max_share) {
+  std::vector<const odometry::VioImuOnlyStretch*> long_ones;
+  for (const odometry::VioImuOnlyStretch& s : stats.imu_only_stretches)
+    if (s.t_last - s.t_first >= kLongImuOnlyStretchS) long_ones.push_back(&s);
+  const double share = stats.ImuOnlyShare();
+  const bool over = stats.imu_only_frames > 0 && share > max_share;
+  if (long_ones.empty() && !over) return 0;
+  std::ostringstream w;
+  w << std::fixed << std::setprecision(1) << "plucker vio: warning: " << stats.imu_only_frames
+    << " of " << stats.window_frames << " frames (" << 100.0 * share
+    << " %) had no visual update (the IMU alone: no landmark tracked)";
+  const std::size_t shown = std::min<std::size_t>(long_ones.size(), 5);
+  if (shown > 0) w << "; stretches of " << kLongImuOnlyStretchS << " s or more: frames ";
+  for (std::size_t k = 0; k < shown; ++k) {
+    const odometry::VioImuOnlyStretch& s = *long_ones[k];
+    w << (k > 0 ? ", " : "") << s.first << "-" << s.last << " (" << std::setprecision(2)
+      << s.t_first << "-" << s.t_last << " s)";
+  }
+  if (long_ones.size() > shown) w << " and " << long_ones.size() - shown << " more";
+  std::cerr << w.str() << "\n";
+  if (!over) return 0;
+  std::cerr << "plucker vio: warning: the IMU-only share " << std::fixed << std::setprecision(3)
+            << share << " exceeds max_imu_only_share " << max_share
+            << ": the trajectory is not trustworthy (exit code " << kExitImuOnly << ")\n";
+  return kExitImuOnly;
 }
 
 std::vector<int> WriteVioTrajectory(const std::string& path,

@@ -30,6 +30,7 @@ class VioReport {
                       double read_ms, double total_wall_ms) const;
 
   int frames = 0, keyframes = 2, imu_only = 0, stationary = 0, skipped = 0;
+  int skipped_images = 0;  // unreadable, blank or of another size: never given to the odometry
   double cpu_ms = 0.0, frontend_ms = 0.0, init_ms = 0.0, frame_ms = 0.0;
   int window_points = 0, window_lines = 0;
   bool extrinsic_estimated = false;
@@ -42,6 +43,16 @@ class VioReport {
   std::array<double, window::kNumWindowStages> stage_total_{};
   std::vector<nlohmann::json> frontend_;
 };
+
+// Exit code of `plucker vio` when more than max_imu_only_share of the window's frames had no
+// visual update (docs/cli.md).
+constexpr int kExitImuOnly = 3;
+// An IMU-only stretch at least this long is named in a warning, whatever the share.
+constexpr double kLongImuOnlyStretchS = 1.0;
+
+// The warnings on frames without a visual update (stderr, --quiet or not): the long stretches
+// with their frame ranges, and the share when over max_share; returns kExitImuOnly then, else 0.
+int WarnImuOnly(const odometry::VioStatistics& stats, double max_share);
 
 // The refined trajectory (`--out`) or the online poses (`--out-online`) as TUM, with a comment
 // saying which; on the dataset's clock when the input has one (EuRoC: the stamps of its files,

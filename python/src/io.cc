@@ -91,7 +91,7 @@ py::dict EurocDict(io::EurocDataset&& e) {
   d["origin_ns"] = e.imu.origin_ns;
   d["ground_truth_times"] = DoubleArray(std::move(gt_times));
   d["ground_truth_T_w_b"] = PoseMatrices(gt_poses);
-  d["skipped"] = e.skipped;
+  d["skipped"] = io::ToStrings(e.skipped);
   d["warnings"] = e.warnings;
   return d;
 }

@@ -71,9 +71,19 @@ void WarnDroppedFrames(const std::vector<EurocFrame>& frames, double factor,
 
 }  // namespace
 
+std::string FrameSkip::ToString() const {
+  return file + ":" + std::to_string(line) + ": " + reason;
+}
+
+std::vector<std::string> ToStrings(const std::vector<FrameSkip>& skips) {
+  std::vector<std::string> out;
+  for (const FrameSkip& s : skips) out.push_back(s.ToString());
+  return out;
+}
+
 std::vector<EurocFrame> ParseEurocCameraCsv(const std::string& text, const std::string& name,
                                             const std::string& image_dir, std::int64_t origin_ns,
-                                            std::vector<std::string>* skipped) {
+                                            std::vector<FrameSkip>* skipped) {
   std::vector<EurocFrame> frames;
   std::stringstream in(text);
   std::string row;
@@ -102,7 +112,7 @@ std::vector<EurocFrame> ParseEurocCameraCsv(const std::string& text, const std::
       problem = "image file missing: " + image.string();
     }
     if (!problem.empty()) {
-      skipped->push_back(where + ": " + problem);
+      skipped->push_back({name, line, problem});
       continue;
     }
     last_ns = ns;
@@ -113,8 +123,9 @@ std::vector<EurocFrame> ParseEurocCameraCsv(const std::string& text, const std::
 }
 
 void CheckImuCoverage(const std::vector<sensor::ImuSample>& imu, const EurocDatasetOptions& options,
-                      const std::string& camera_name, std::vector<EurocFrame>* frames,
-                      std::vector<std::string>* skipped, std::vector<std::string>* warnings) {
+                      const std::string& camera_name, const std::string& imu_name,
+                      std::vector<EurocFrame>* frames, std::vector<FrameSkip>* skipped,
+                      std::vector<std::string>* warnings) {
   if (imu.empty() || frames->empty()) return;
   if (frames->back().t < imu.front().t || frames->front().t > imu.back().t) {
     throw IoError(camera_name, "the camera times [" + Seconds(frames->front().t) + ", " +
@@ -124,8 +135,8 @@ void CheckImuCoverage(const std::vector<sensor::ImuSample>& imu, const EurocData
   }
   const std::vector<Interval> gaps = ImuGaps(imu, options.max_imu_gap_s);
   for (const Interval& g : gaps) {
-    warnings->push_back("imu0/data.csv: a gap of " + Seconds(g.end - g.begin) + " from " +
-                        Seconds(g.begin));
+    warnings->push_back(imu_name + ": a gap of " + Seconds(g.end - g.begin) + " from " +
+                        Seconds(g.begin) + " (longer than " + Seconds(options.max_imu_gap_s) + ")");
   }
   std::vector<EurocFrame> covered;
   for (const EurocFrame& f : *frames) {
@@ -133,7 +144,7 @@ void CheckImuCoverage(const std::vector<sensor::ImuSample>& imu, const EurocData
     if (problem.empty()) {
       covered.push_back(f);
     } else {
-      skipped->push_back(camera_name + ":" + std::to_string(f.line) + ": " + problem);
+      skipped->push_back({camera_name, f.line, problem});
     }
   }
   *frames = std::move(covered);
@@ -151,9 +162,11 @@ EurocDataset ReadEurocDataset(const std::string& dir, const EurocDatasetOptions&
   d.cam0 = ReadEurocCamera((mav0 / "cam0" / "sensor.yaml").string());
   d.frames = ParseEurocCameraCsv(ReadFileToString(cam_csv.string()), cam_csv.string(),
                                  (mav0 / "cam0" / "data").string(), d.imu.origin_ns, &d.skipped);
-  CheckImuCoverage(d.imu.imu, options, cam_csv.string(), &d.frames, &d.skipped, &d.warnings);
+  CheckImuCoverage(d.imu.imu, options, cam_csv.string(), (mav0 / "imu0" / "data.csv").string(),
+                   &d.frames, &d.skipped, &d.warnings);
   if (d.frames.empty()) {
-    throw IoError(cam_csv.string(), "no usable frame; the first skipped: " + d.skipped.front());
+    throw IoError(cam_csv.string(),
+                  "no usable frame; the first skipped: " + d.skipped.front().ToString());
   }
   return d;
 }

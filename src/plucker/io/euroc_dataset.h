@@ -31,6 +31,15 @@ struct EurocFrame {
   int line = 0;       // its row in data.csv, for messages
 };
 
+// A frame that cannot be used, structured (callers name the frame their own way): the file that
+// lists it, its row there (or its index: callers with their own layout say which), the reason.
+struct FrameSkip {
+  std::string file;
+  int line = 0;
+  std::string reason;
+  std::string ToString() const;  // "FILE:LINE: reason"
+};
+
 struct EurocDatasetOptions {
   double max_imu_gap_s = 0.05;        // a larger step between IMU samples is a gap (EuRoC: 5 ms)
   double dropped_frame_factor = 1.5;  // a camera step above this x the median means dropped images
@@ -40,8 +49,8 @@ struct EurocDataset {
   EurocCamera cam0;
   EurocImuRecording imu;
   std::vector<EurocFrame> frames;     // usable frames, in time order
-  std::vector<std::string> skipped;   // "data.csv:LINE: reason", one per skipped frame
-  std::vector<std::string> warnings;  // IMU gaps, dropped images
+  std::vector<FrameSkip> skipped;     // one per skipped frame (data.csv, its row, the reason)
+  std::vector<std::string> warnings;  // IMU gaps, dropped images (naming the file)
 };
 
 // `dir`: the dataset folder (with mav0/) or mav0 itself. Throws IoError.
@@ -49,13 +58,17 @@ EurocDataset ReadEurocDataset(const std::string& dir, const EurocDatasetOptions&
 
 // The steps of the checks, for tests and other layouts: the rows of a cam0 data.csv (`name` and
 // `image_dir` name the file and the image folder; rows that cannot be used go to *skipped), and
-// the coverage of the frames by the IMU (frames not covered are removed and recorded).
+// the coverage of the frames by the IMU (frames not covered are removed and recorded with
+// camera_name and their `line`; warnings name imu_name).
 std::vector<EurocFrame> ParseEurocCameraCsv(const std::string& text, const std::string& name,
                                             const std::string& image_dir, std::int64_t origin_ns,
-                                            std::vector<std::string>* skipped);
+                                            std::vector<FrameSkip>* skipped);
 void CheckImuCoverage(const std::vector<sensor::ImuSample>& imu, const EurocDatasetOptions& options,
-                      const std::string& camera_name, std::vector<EurocFrame>* frames,
-                      std::vector<std::string>* skipped, std::vector<std::string>* warnings);
+                      const std::string& camera_name, const std::string& imu_name,
+                      std::vector<EurocFrame>* frames, std::vector<FrameSkip>* skipped,
+                      std::vector<std::string>* warnings);
+// Strings of skips (ToString), for messages and bindings.
+std::vector<std::string> ToStrings(const std::vector<FrameSkip>& skips);
 
 }  // namespace io
 }  // namespace plucker

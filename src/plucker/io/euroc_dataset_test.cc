@@ -108,12 +108,19 @@ TEST(EurocDataset, UnusableFramesAreSkippedWithTheirRowAndReason) {
   FakeEuroc(dir.path()).Build(rows);
   const EurocDataset d = ReadEurocDataset(dir.path().string());
   EXPECT_EQ(d.frames.size(), 8u);
-  ASSERT_EQ(d.skipped.size(), 5u) << ::testing::PrintToString(d.skipped);
-  EXPECT_TRUE(AnyContains(d.skipped, "data.csv:13: '/etc/hostname' is not a file name inside"));
-  EXPECT_TRUE(AnyContains(d.skipped, "data.csv:6: duplicated timestamp")) << d.skipped[0];
-  EXPECT_TRUE(AnyContains(d.skipped, "data.csv:9: timestamp goes back"));
-  EXPECT_TRUE(AnyContains(d.skipped, "data.csv:11: image file missing"));
-  EXPECT_TRUE(AnyContains(d.skipped, "data.csv:2: no IMU coverage (before the first IMU sample)"));
+  const std::vector<std::string> skipped = ToStrings(d.skipped);
+  ASSERT_EQ(skipped.size(), 5u) << ::testing::PrintToString(skipped);
+  for (const FrameSkip& s : d.skipped) {  // structured: the file, its row, the reason
+    EXPECT_NE(s.file.find("cam0/data.csv"), std::string::npos);
+    EXPECT_GT(s.line, 1);
+    EXPECT_FALSE(s.reason.empty());
+    EXPECT_EQ(s.reason.find("data.csv"), std::string::npos) << s.reason;
+  }
+  EXPECT_TRUE(AnyContains(skipped, "data.csv:13: '/etc/hostname' is not a file name inside"));
+  EXPECT_TRUE(AnyContains(skipped, "data.csv:6: duplicated timestamp")) << skipped[0];
+  EXPECT_TRUE(AnyContains(skipped, "data.csv:9: timestamp goes back"));
+  EXPECT_TRUE(AnyContains(skipped, "data.csv:11: image file missing"));
+  EXPECT_TRUE(AnyContains(skipped, "data.csv:2: no IMU coverage (before the first IMU sample)"));
   for (std::size_t i = 1; i < d.frames.size(); ++i) EXPECT_GT(d.frames[i].t, d.frames[i - 1].t);
 }
 
@@ -126,7 +133,7 @@ TEST(EurocDataset, ImuGapsAndDroppedImagesAreReported) {
   const EurocDataset d = ReadEurocDataset(dir.path().string());
   EXPECT_EQ(d.frames.size(), 12u);
   EXPECT_EQ(d.skipped.size(), 2u);
-  EXPECT_TRUE(AnyContains(d.skipped, "inside a gap of 0.120 s"));
+  EXPECT_TRUE(AnyContains(ToStrings(d.skipped), "inside a gap of 0.120 s"));
   EXPECT_TRUE(AnyContains(d.warnings, "imu0/data.csv: a gap of 0.120 s"));
   EXPECT_TRUE(AnyContains(d.warnings, "about 2 image(s) dropped"));
 }
@@ -160,7 +167,7 @@ TEST(EurocDataset, RealV101HeadIsCoveredFrameByFrame) {
   if (!fs::exists(root)) GTEST_SKIP() << "no " << root << " (../shared/data): skipped";
   const EurocDataset d = ReadEurocDataset(root.string());
   EXPECT_EQ(d.frames.size(), 95u);
-  EXPECT_TRUE(d.skipped.empty()) << d.skipped.front();
+  EXPECT_TRUE(d.skipped.empty()) << d.skipped.front().ToString();
   EXPECT_TRUE(d.warnings.empty()) << d.warnings.front();
   EXPECT_GE(d.frames.front().t, d.imu.imu.front().t);  // the first image is at the first sample
   EXPECT_NEAR(d.frames[1].t - d.frames[0].t, 0.05, 1e-3);

@@ -47,7 +47,7 @@ int EurocOneInput(const std::uint8_t* data, std::size_t size) {
   }
   try {
     // The image folder does not exist: every row is skipped or an error, none is kept.
-    std::vector<std::string> skipped;
+    std::vector<FrameSkip> skipped;
     Check(
         ParseEurocCameraCsv(text, "fuzz_cam.csv", "/nonexistent-plucker-fuzz", 0, &skipped).empty(),
         "a frame without its image file was kept");

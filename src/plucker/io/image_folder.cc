@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -83,6 +84,33 @@ cv::Mat ReadGrayImage(const std::string& path, int reduction) {
     image = gray;
   }
   return image;
+}
+
+std::string BlankImageProblem(const cv::Mat& gray, const BlankImageOptions& o) {
+  if (gray.empty() || gray.type() != CV_8UC1) return "";
+  const double n = static_cast<double>(gray.total());
+  const double dark = cv::countNonZero(gray <= o.dark_level) / n;
+  const double bright = cv::countNonZero(gray >= o.bright_level) / n;
+  char buf[160];
+  if (dark >= o.share) {
+    std::snprintf(buf, sizeof(buf), "black image (%.1f %% of the pixels at or below %d)",
+                  100.0 * dark, o.dark_level);
+    return buf;
+  }
+  if (bright >= o.share) {
+    std::snprintf(buf, sizeof(buf), "saturated image (%.1f %% of the pixels at or above %d)",
+                  100.0 * bright, o.bright_level);
+    return buf;
+  }
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(gray, mean, stddev);
+  if (stddev[0] < o.min_contrast) {
+    std::snprintf(buf, sizeof(buf),
+                  "uniform image (grey-level standard deviation %.2f, mean %.1f): nothing to track",
+                  stddev[0], mean[0]);
+    return buf;
+  }
+  return "";
 }
 
 ImageSize CheckSameImageSize(const std::vector<std::string>& files) {

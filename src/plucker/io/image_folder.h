@@ -27,6 +27,16 @@ std::vector<std::string> ListImageFiles(const std::string& dir);
 // tests on large photos. Throws IoError when the file is missing or not a readable image.
 cv::Mat ReadGrayImage(const std::string& path, int reduction = 1);
 
+// Why an 8-bit grayscale image holds nothing to track, or "" when it does: black (at least
+// `share` of the pixels at or below dark_level), saturated (at or above bright_level) or uniform
+// (grey-level standard deviation below min_contrast): a covered lens, an exposure failure.
+struct BlankImageOptions {
+  double share = 0.98;
+  int dark_level = 8, bright_level = 247;
+  double min_contrast = 2.0;
+};
+std::string BlankImageProblem(const cv::Mat& gray, const BlankImageOptions& options = {});
+
 struct ImageSize {
   int width = 0;
   int height = 0;

@@ -79,6 +79,29 @@ TEST(ImageFolder, BadInput) {
   EXPECT_NE(ProblemOf([&] { CheckSameImageSize({}); }).find("empty list"), std::string::npos);
 }
 
+TEST(ImageFolder, BlankImagesAreNamed) {
+  cv::Mat textured(48, 64, CV_8UC1);
+  cv::randu(textured, 0, 256);
+  EXPECT_EQ(BlankImageProblem(textured), "");
+  EXPECT_NE(BlankImageProblem(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0))).find("black image"),
+            std::string::npos);
+  cv::Mat noisy_black(48, 64, CV_8UC1);
+  cv::randu(noisy_black, 0, 6);  // sensor noise on a covered lens
+  EXPECT_NE(BlankImageProblem(noisy_black).find("black image"), std::string::npos);
+  EXPECT_NE(BlankImageProblem(cv::Mat(48, 64, CV_8UC1, cv::Scalar(255))).find("saturated image"),
+            std::string::npos);
+  EXPECT_NE(BlankImageProblem(cv::Mat(48, 64, CV_8UC1, cv::Scalar(128))).find("uniform image"),
+            std::string::npos);
+  // A dark but textured image is not blank.
+  cv::Mat dark(48, 64, CV_8UC1);
+  cv::randu(dark, 0, 40);
+  EXPECT_EQ(BlankImageProblem(dark), "");
+  // Half saturated: still something to track.
+  cv::Mat half = textured.clone();
+  half.rowRange(0, 24).setTo(255);
+  EXPECT_EQ(BlankImageProblem(half), "");
+}
+
 TEST(ImageFolder, RealKittiClip) {
   const fs::path dir = fs::path(PLUCKER_SHARED_DATA_DIR) / "kitti-mono-clip/image_0";
   if (!fs::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;

@@ -145,6 +145,8 @@ struct VisualInertialOdometry::Impl {
   window::FrameInput last;  // the previous frame (image motion)
   bool has_last = false;
   std::vector<VioFrameRecord> trajectory;
+  VioStatistics stats;
+  bool stretch_open = false;                         // the newest IMU-only stretch goes on
   std::unique_ptr<vision::Undistorter> undistorter;  // AddImage
   std::unique_ptr<vision::ImageFrontend> frontend;
 
@@ -152,6 +154,7 @@ struct VisualInertialOdometry::Impl {
       : o(options), calib(c), initializer(options, c) {}
 
   void SetStationary(window::FrameInput* frame);
+  int Count(const VioFrameRecord& rec);
   VioFrameResult Initialize(bool end, const window::StageObserver& observer);
   void StartWindow();
   VioFrameRecord Track(int index, const window::FrameInput& frame,
@@ -169,6 +172,30 @@ void VisualInertialOdometry::Impl::SetStationary(window::FrameInput* frame) {
     if (!estimator) flags.push_back(*flag);
   }
   if (num_frames == 1 && !frames.empty()) frames.front().stationary = frame->stationary;
+}
+
+// A settled frame into the statistics; returns the IMU-only frames in a row up to it.
+int VisualInertialOdometry::Impl::Count(const VioFrameRecord& rec) {
+  ++stats.settled_frames;
+  if (rec.kind != VioFrameKind::kWindow) return 0;
+  const bool skipped =
+      rec.status == VioStatus::kSkippedNoImu || rec.status == VioStatus::kSkippedNonFinite;
+  stats.skipped_frames += skipped;
+  if (skipped) return 0;  // neither ends nor extends a stretch
+  ++stats.window_frames;
+  stats.stationary_frames += rec.status == VioStatus::kStationary;
+  if (rec.status != VioStatus::kImuOnly) {
+    stats.tracked_frames += rec.status == VioStatus::kTracking;
+    stretch_open = false;
+    return 0;
+  }
+  ++stats.imu_only_frames;
+  std::vector<VioImuOnlyStretch>& s = stats.imu_only_stretches;
+  if (!stretch_open) s.push_back({rec.frame, rec.frame, rec.time, rec.time});
+  stretch_open = true;
+  s.back().last = rec.frame;
+  s.back().t_last = rec.time;
+  return s.back().frames();
 }
 
 // The frame's outcome in the window.
@@ -313,7 +340,10 @@ VioFrameResult VisualInertialOdometry::Impl::Initialize(bool end,
   const int second = initializer.start().second;
   for (int f = second + 1; f < static_cast<int>(frames.size()); ++f)
     trajectory[f] = Track(f, frames[f], observer);
-  for (int f = 0; f < static_cast<int>(frames.size()); ++f) result.settled.push_back(trajectory[f]);
+  for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
+    result.settled.push_back(trajectory[f]);
+    result.imu_only_run = Count(trajectory[f]);
+  }
   for (VioFrameRecord& rec : trajectory) rec.window.reset();  // kept in `settled` only
   const VioFrameRecord& last = result.settled.back();
   result.status = last.kind == VioFrameKind::kWindow ? last.status : VioStatus::kStarted;
@@ -414,6 +444,7 @@ VioFrameResult VisualInertialOdometry::AddFrame(const window::FrameInput& input,
       result.bias = r.window->state.bias;
     }
     result.settled.push_back(r);
+    result.imu_only_run = m.Count(r);
   } else {
     m.frames.push_back(std::move(frame));
     result = m.Initialize(false, observer);
@@ -440,6 +471,12 @@ const VioInitialization& VisualInertialOdometry::initialization() const { return
 const std::vector<VioFrameRecord>& VisualInertialOdometry::RefinedTrajectory() const {
   return impl_->trajectory;
 }
+const VioStatistics& VisualInertialOdometry::statistics() const { return impl_->stats; }
+
+double VioStatistics::ImuOnlyShare() const {
+  return window_frames > 0 ? static_cast<double>(imu_only_frames) / window_frames : 0.0;
+}
+
 SE3d VisualInertialOdometry::ExtrinsicEstimate() const {
   return impl_->estimator ? impl_->estimator->ExtrinsicEstimate() : impl_->calib.T_b_c;
 }

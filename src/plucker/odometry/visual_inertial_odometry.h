@@ -149,7 +149,32 @@ struct VioFrameResult {
   // Frames whose refined records became final in this call, oldest first (at the start: all the
   // buffered frames; then this frame).
   std::vector<VioFrameRecord> settled;
+  // Frames without a visual update up to this one, this one included (kImuOnly in a row; 0
+  // when this frame was tracked, stationary or is not settled yet).
+  int imu_only_run = 0;
   std::string message;  // kFailed
+};
+
+// Frames first..last (indices among the frames given, times t_first..t_last) in a row without a
+// visual update: the window predicted them from the IMU alone (status kImuOnly; a stationary
+// frame has the zero-motion update and does not count).
+struct VioImuOnlyStretch {
+  int first = 0, last = 0;
+  double t_first = 0.0, t_last = 0.0;
+  int frames() const { return last - first + 1; }
+};
+
+// The run's counts over the settled frames (see RefinedTrajectory()).
+struct VioStatistics {
+  int settled_frames = 0;     // frames whose outcome is final
+  int window_frames = 0;      // ... of which the window ran (tracked, IMU-only or stationary)
+  int tracked_frames = 0;     // with a visual update
+  int imu_only_frames = 0;    // without one (kImuOnly)
+  int stationary_frames = 0;  // the zero-motion update
+  int skipped_frames = 0;     // kSkippedNoImu, kSkippedNonFinite
+  std::vector<VioImuOnlyStretch> imu_only_stretches;  // in order, every stretch
+  // imu_only_frames / window_frames (0 without window frames).
+  double ImuOnlyShare() const;
 };
 
 // What the initialisation did, for reports.
@@ -201,6 +226,8 @@ class VisualInertialOdometry {
   // Every frame given so far, with the refined (backfilled) poses; frames still buffered for
   // the initialisation have none.
   const std::vector<VioFrameRecord>& RefinedTrajectory() const;
+  // The counts of the frames settled so far (IMU-only stretches among them).
+  const VioStatistics& statistics() const;
   // The extrinsic the window uses (calibration.T_b_c before the start) and whether it is free.
   SE3d ExtrinsicEstimate() const;
   bool ExtrinsicFree() const;

@@ -1,5 +1,6 @@
 #include "plucker/sim/camera_observations.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -293,6 +294,18 @@ sensor::CameraImuSequence ToCameraImuSequence(const CameraSimulation& simulation
   gt.planes_w = scene.planes_w;
   gt.free_space_w = scene.free_space_w;
   return out;
+}
+
+MotionStats MeasureMotion(const CameraSimulation& simulation) {
+  MotionStats m;
+  for (const Eigen::Vector3d& v : simulation.v_w_gt) m.max_speed = std::max(m.max_speed, v.norm());
+  const std::vector<SE3d>& T = simulation.T_w_b_gt;
+  for (std::size_t i = 1; i < T.size(); ++i) {
+    const double dt = simulation.frame_times[i] - simulation.frame_times[i - 1];
+    const double angle = LogSO3<double>(T[i - 1].rotation().conjugate() * T[i].rotation()).norm();
+    if (dt > 0.0) m.max_turn_rate = std::max(m.max_turn_rate, angle / dt);
+  }
+  return m;
 }
 
 }  // namespace sim

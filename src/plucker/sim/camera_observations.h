@@ -117,5 +117,12 @@ CameraSimulation SimulateCamera(const CameraSimulationOptions& options);
 // The simulation as a recorded sequence with its ground truth (what io/sim_format.h writes).
 sensor::CameraImuSequence ToCameraImuSequence(const CameraSimulation& simulation);
 
+// The fastest motion of a simulation: body speed at the frame times (m/s) and turn rate between
+// consecutive frames (rad/s).
+struct MotionStats {
+  double max_speed = 0.0, max_turn_rate = 0.0;
+};
+MotionStats MeasureMotion(const CameraSimulation& simulation);
+
 }  // namespace sim
 }  // namespace plucker

@@ -35,35 +35,65 @@ Trajectory::Trajectory(const std::array<SmoothSignal, 3>& position_w, const Smoo
                        const SmoothSignal& pitch, const SmoothSignal& roll, double duration)
     : position_w_(position_w), yaw_(yaw), pitch_(pitch), roll_(roll), duration_(duration) {}
 
+void Trajectory::SetStandingStart(double stand_s, double ramp_s) {
+  if (!std::isfinite(stand_s) || !std::isfinite(ramp_s) || stand_s < 0.0 || ramp_s < 0.0) {
+    throw std::invalid_argument("Trajectory::SetStandingStart: negative or non-finite times");
+  }
+  stand_s_ = stand_s;
+  ramp_s_ = stand_s > 0.0 ? ramp_s : 0.0;
+}
+
+// u' = smoothstep(x) = 3x^2 - 2x^3 over the ramp (x = (t - stand) / ramp), so u = ramp (x^3 -
+// x^4 / 2) and u'' = 6 (x - x^2) / ramp; after the ramp u = t - stand - ramp / 2.
+Trajectory::Warp Trajectory::WarpAt(double t) const {
+  if (stand_s_ <= 0.0) return {t, 1.0, 0.0};
+  if (t <= stand_s_) return {0.0, 0.0, 0.0};
+  if (ramp_s_ <= 0.0) return {t - stand_s_, 1.0, 0.0};  // a step in velocity
+  const double x = (t - stand_s_) / ramp_s_;
+  if (x >= 1.0) return {t - stand_s_ - 0.5 * ramp_s_, 1.0, 0.0};
+  const double x2 = x * x, x3 = x2 * x;
+  return {ramp_s_ * (x3 - 0.5 * x2 * x2), 3.0 * x2 - 2.0 * x3, 6.0 * (x - x2) / ramp_s_};
+}
+
 Matrix3d Trajectory::R_w_b(double t) const {
-  return (Eigen::AngleAxisd(yaw_.Value(t), Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(pitch_.Value(t), Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll_.Value(t), Vector3d::UnitX()))
+  const double u = WarpAt(t).u;
+  return (Eigen::AngleAxisd(yaw_.Value(u), Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch_.Value(u), Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll_.Value(u), Vector3d::UnitX()))
       .toRotationMatrix();
 }
 
 SE3d Trajectory::T_w_b(double t) const { return SE3d(R_w_b(t), position_w(t)); }
 
 Vector3d Trajectory::position_w(double t) const {
-  return Vector3d(position_w_[0].Value(t), position_w_[1].Value(t), position_w_[2].Value(t));
+  const double u = WarpAt(t).u;
+  return Vector3d(position_w_[0].Value(u), position_w_[1].Value(u), position_w_[2].Value(u));
 }
 
 Vector3d Trajectory::velocity_w(double t) const {
-  return Vector3d(position_w_[0].FirstDerivative(t), position_w_[1].FirstDerivative(t),
-                  position_w_[2].FirstDerivative(t));
+  const Warp w = WarpAt(t);
+  return w.du * Vector3d(position_w_[0].FirstDerivative(w.u), position_w_[1].FirstDerivative(w.u),
+                         position_w_[2].FirstDerivative(w.u));
 }
 
+// d2/dt2 p(u(t)) = p''(u) u'^2 + p'(u) u''.
 Vector3d Trajectory::acceleration_w(double t) const {
-  return Vector3d(position_w_[0].SecondDerivative(t), position_w_[1].SecondDerivative(t),
-                  position_w_[2].SecondDerivative(t));
+  const Warp w = WarpAt(t);
+  Vector3d a;
+  for (int i = 0; i < 3; ++i) {
+    a(i) = position_w_[i].SecondDerivative(w.u) * w.du * w.du +
+           position_w_[i].FirstDerivative(w.u) * w.ddu;
+  }
+  return a;
 }
 
 // R = Rz(yaw) Ry(pitch) Rx(roll)  =>  R^T R' = [omega_b]x with
-// omega_b = roll' e_x + pitch' Rx^T e_y + yaw' Rx^T Ry^T e_z.
+// omega_b = roll' e_x + pitch' Rx^T e_y + yaw' Rx^T Ry^T e_z (rates in t: u' times those in u).
 Vector3d Trajectory::angular_velocity_b(double t) const {
-  const double pitch = pitch_.Value(t), roll = roll_.Value(t);
-  const double dyaw = yaw_.FirstDerivative(t), dpitch = pitch_.FirstDerivative(t),
-               droll = roll_.FirstDerivative(t);
+  const Warp w = WarpAt(t);
+  const double pitch = pitch_.Value(w.u), roll = roll_.Value(w.u);
+  const double dyaw = w.du * yaw_.FirstDerivative(w.u), dpitch = w.du * pitch_.FirstDerivative(w.u),
+               droll = w.du * roll_.FirstDerivative(w.u);
   const double sp = std::sin(pitch), cp = std::cos(pitch), sr = std::sin(roll), cr = std::cos(roll);
   return Vector3d(droll - dyaw * sp, dpitch * cr + dyaw * cp * sr, -dpitch * sr + dyaw * cp * cr);
 }
@@ -71,7 +101,8 @@ Vector3d Trajectory::angular_velocity_b(double t) const {
 Vector3d Trajectory::angular_velocity_w(double t) const { return R_w_b(t) * angular_velocity_b(t); }
 
 Vector3d Trajectory::euler_zyx(double t) const {
-  return Vector3d(yaw_.Value(t), pitch_.Value(t), roll_.Value(t));
+  const double u = WarpAt(t).u;
+  return Vector3d(yaw_.Value(u), pitch_.Value(u), roll_.Value(u));
 }
 
 namespace {
@@ -95,6 +126,9 @@ Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene,
   CheckFinite(options.pitch_amplitude, false, "pitch_amplitude");
   CheckFinite(options.roll_amplitude, false, "roll_amplitude");
   CheckFinite(options.wobble, false, "wobble");
+  CheckFinite(options.standing_start_s, false, "standing_start_s");
+  CheckFinite(options.start_ramp_s, false, "start_ramp_s");
+  CheckFinite(options.turn_frequency_scale, true, "turn_frequency_scale");
   if (options.pitch_amplitude > 0.5 || options.roll_amplitude > 0.5) {
     throw std::invalid_argument("MakeTrajectory: pitch/roll amplitudes above 0.5 rad");
   }
@@ -120,7 +154,8 @@ Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene,
                            box.max().z() - bob - 2.0 * wobble.z());
 
   SmoothSignal yaw, pitch, roll;
-  const double yaw_omega = 0.6, pitch_omega = 0.9, roll_omega = 1.3;
+  const double turn = options.turn_frequency_scale;
+  const double yaw_omega = 0.6 * turn, pitch_omega = 0.9 * turn, roll_omega = 1.3 * turn;
   if (scene.kind == SceneKind::kRoom) {
     const double rx = 0.9 * reach.x(), ry = 0.9 * reach.y();
     const double radius = std::max(0.5 * (rx + ry), 1e-3);
@@ -153,7 +188,18 @@ Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene,
   for (int i = 0; i < 3; ++i) p[i].terms.push_back({wobble(i), wobble_omega[i], phase()});
   pitch.terms.push_back({options.pitch_amplitude, pitch_omega, phase()});
   roll.terms.push_back({options.roll_amplitude, roll_omega, phase()});
-  return Trajectory(p, yaw, pitch, roll, options.duration);
+  Trajectory trajectory(p, yaw, pitch, roll, options.duration);
+  trajectory.SetStandingStart(options.standing_start_s, options.start_ramp_s);
+  return trajectory;
+}
+
+void MakeAggressive(TrajectoryOptions* options) {
+  options->speed = 5.0;
+  options->yaw_sway = 0.6;
+  options->pitch_amplitude = 0.15;
+  options->roll_amplitude = 0.1;
+  options->wobble = 0.1;
+  options->turn_frequency_scale = 3.0;
 }
 
 }  // namespace sim

@@ -56,10 +56,22 @@ class Trajectory {
   // The trajectory is defined for every t; [0, duration] is the simulated interval.
   double duration() const { return duration_; }
 
+  // A standing start: the body stands at its t = 0 pose for `stand_s` seconds, then speeds up
+  // smoothly over `ramp_s` seconds to the path's own speed (a time warp u(t): u = 0 while
+  // standing, u' a cubic smoothstep from 0 to 1 over the ramp, then u' = 1; the acceleration and
+  // angular velocity stay continuous). 0, 0: none (the default).
+  void SetStandingStart(double stand_s, double ramp_s);
+
  private:
+  struct Warp {
+    double u, du, ddu;  // u(t), u'(t), u''(t)
+  };
+  Warp WarpAt(double t) const;
+
   std::array<SmoothSignal, 3> position_w_;
   SmoothSignal yaw_, pitch_, roll_;
   double duration_ = 0.0;
+  double stand_s_ = 0.0, ramp_s_ = 0.0;
 };
 
 struct TrajectoryOptions {
@@ -70,6 +82,12 @@ struct TrajectoryOptions {
   double pitch_amplitude = 0.08;  // rad
   double roll_amplitude = 0.04;   // rad
   double wobble = 0.05;  // m, amplitude of higher-frequency position terms (IMU excitation)
+  // Standing start (Trajectory::SetStandingStart): seconds standing still at t = 0, then the
+  // seconds of the smooth speed-up (0: the body moves from t = 0, the default).
+  double standing_start_s = 0.0;
+  // Scales the frequencies of the heading sway, pitch and roll (faster turns; 1: the default).
+  double turn_frequency_scale = 1.0;
+  double start_ramp_s = 1.0;
 };
 
 // A trajectory that stays inside scene.free_space_w and looks at the scene:
@@ -78,8 +96,15 @@ struct TrajectoryOptions {
 //   corridor / facades: back and forth along x, looking towards +x down the corridor / street
 //             with a yaw sway so both walls / facades are seen in perspective; the motion stops
 //             min(8 m, 40% of the length) short of the +x end so the far end stays in view.
+// standing_start_s > 0: the body stands that long first (Trajectory::SetStandingStart).
 // Random phases from `seed`. Throws std::invalid_argument for non-finite / non-positive options.
 Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene, std::uint64_t seed);
+
+// The aggressive motion of the robustness table (docs/sim-format.md): fast (speed 5 m/s along
+// the main motion, up to ~8 m/s with the sway) with fast turns (the heading sway, pitch and roll
+// at 3x their frequencies, larger amplitudes: the room up to ~2.8 rad/s, the corridor ~1.2;
+// `plucker sim camera` prints the largest speed and turn rate of a run).
+void MakeAggressive(TrajectoryOptions* options);
 
 }  // namespace sim
 }  // namespace plucker

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "plucker/geometry/so3.h"
@@ -95,6 +97,68 @@ TEST(TrajectoryTest, DeterministicGivenSeed) {
     EXPECT_EQ(a.position_w(t), b.position_w(t));
     EXPECT_EQ(a.R_w_b(t), b.R_w_b(t));
     EXPECT_NE(a.position_w(t), c.position_w(t));
+  }
+}
+
+TEST(TrajectoryTest, StandingStartStandsThenMovesSmoothly) {
+  const Scene scene = MakeScene(SceneOptions(), 1);
+  TrajectoryOptions moving;
+  moving.duration = 6.0;
+  TrajectoryOptions standing = moving;
+  standing.standing_start_s = 1.25;
+  standing.start_ramp_s = 1.0;
+  const Trajectory a = MakeTrajectory(moving, scene, 4);
+  const Trajectory b = MakeTrajectory(standing, scene, 4);
+  for (double t = 0.0; t <= 1.25; t += 0.05) {  // standing at the moving start's t = 0 pose
+    EXPECT_EQ(b.position_w(t), a.position_w(0.0));
+    EXPECT_EQ(b.R_w_b(t), a.R_w_b(0.0));
+    EXPECT_EQ(b.velocity_w(t).norm(), 0.0);
+    EXPECT_EQ(b.acceleration_w(t).norm(), 0.0);
+    EXPECT_EQ(b.angular_velocity_b(t).norm(), 0.0);
+  }
+  // After the ramp: the moving path, delayed by stand + ramp / 2.
+  for (double t = 2.3; t <= 6.0; t += 0.4) {
+    EXPECT_LT((b.position_w(t) - a.position_w(t - 1.75)).norm(), 1e-12);
+    EXPECT_LT((b.velocity_w(t) - a.velocity_w(t - 1.75)).norm(), 1e-12);
+  }
+  // The derivatives across the stand, the ramp and after, off the joints (1.25 s, 2.25 s: the
+  // acceleration is continuous there, its derivative is not, which the central difference of the
+  // velocity would see as an O(h) error).
+  const double h = 1e-5;
+  for (double t = 1.01; t <= 3.0; t += 0.0625) {
+    const Eigen::Vector3d v_fd = (b.position_w(t + h) - b.position_w(t - h)) / (2 * h);
+    const Eigen::Vector3d a_fd = (b.velocity_w(t + h) - b.velocity_w(t - h)) / (2 * h);
+    const Eigen::Quaterniond dq(b.R_w_b(t - h).transpose() * b.R_w_b(t + h));
+    EXPECT_LT((b.velocity_w(t) - v_fd).norm(), 1e-7) << t;
+    EXPECT_LT((b.acceleration_w(t) - a_fd).norm(), 1e-5) << t;
+    EXPECT_LT((b.angular_velocity_b(t) - LogSO3(dq) / (2 * h)).norm(), 1e-6) << t;
+  }
+  EXPECT_GT(b.velocity_w(2.5).norm(), 0.1);
+  standing.standing_start_s = -1.0;
+  EXPECT_THROW(MakeTrajectory(standing, scene, 4), std::invalid_argument);
+}
+
+TEST(TrajectoryTest, AggressiveMotionIsFastAndStaysInFreeSpace) {
+  for (const SceneKind kind : {SceneKind::kRoom, SceneKind::kCorridor}) {
+    SceneOptions scene_options;
+    scene_options.kind = kind;
+    const Scene scene = MakeScene(scene_options, 3);
+    TrajectoryOptions options;
+    options.duration = 20.0;
+    MakeAggressive(&options);
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const Trajectory tr = MakeTrajectory(options, scene, seed);
+      double max_v = 0.0, max_w = 0.0;
+      for (double t = 0.0; t <= tr.duration(); t += 0.02) {
+        EXPECT_TRUE(scene.free_space_w.contains(tr.position_w(t))) << SceneKindName(kind) << t;
+        max_v = std::max(max_v, tr.velocity_w(t).norm());
+        max_w = std::max(max_w, tr.angular_velocity_b(t).norm());
+      }
+      EXPECT_GT(max_v, 4.0) << SceneKindName(kind);
+      EXPECT_LT(max_v, 8.5) << SceneKindName(kind);
+      EXPECT_GT(max_w, 1.0) << SceneKindName(kind);
+      EXPECT_LT(max_w, 3.0) << SceneKindName(kind);
+    }
   }
 }
 

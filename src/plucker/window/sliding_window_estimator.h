@@ -137,11 +137,17 @@ struct InertialOptions {
   double stationary_position_sigma = 1e-3;  // m
   double stationary_rotation_sigma = 1e-4;  // rad
   double stationary_velocity_sigma = 1e-2;  // m/s
-  // The caller's flag is believed only while the newest keyframe's speed is below this: under
-  // forward motion most points lie far ahead and barely move in the image (the simulated
-  // corridor at 0.3-1 m/s: a median displacement under 3 px in 50 of 600 frames), which an image
-  // test alone takes for standing still.
+  // The caller's flag is believed only while the newest keyframe's speed and the speed the IMU
+  // predicts for the frame are both below this: under forward motion most points lie far ahead
+  // and barely move in the image (the simulated corridor at 0.3-1 m/s: a median displacement
+  // under 3 px in 50 of 600 frames), which an image test alone takes for standing still. The
+  // prediction matters after a standing start: the keyframes at rest have zero speed, and a body
+  // speeding up forward at 20 Hz kept looking still, its velocity clamped to zero by the
+  // zero-motion updates, the IMU prediction corrupted and nothing triangulated (issue 26 2b).
   double stationary_max_speed = 0.05;  // m/s
+  // ... and the IMU's predicted speed below this (m/s): looser, as the prediction from a keyframe
+  // at rest carries the static start's accelerometer bias error over up to a second.
+  double stationary_max_predicted_speed = 0.2;
   // Per-frame tracking fuses the IMU prediction from the newest keyframe: a prior on the body
   // pose with the preintegration's covariance plus this velocity uncertainty of the keyframe
   // (m/s per axis) times the time since it (and, with estimate_extrinsic, the extrinsic prior's

@@ -68,7 +68,13 @@ bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackRes
        (opt.max_keyframe_interval_s > 0.0 && since_keyframe >= opt.max_keyframe_interval_s));
   // Inertial mode: also when InertialOptions::max_imu_factor_span_s has passed, tracked or not
   // (the IMU factors stay short, a standing body keeps its window).
-  if (opt.inertial) return keyframe || since_keyframe >= opt.inertial->max_imu_factor_span_s;
+  // Untracked (no landmark yet, e.g. after a standing start, or all lost) but moved: a keyframe at
+  // the IMU's pose as soon as the image shows parallax, so that vision starts (triangulates)
+  // without waiting for max_imu_factor_span_s of IMU-only frames.
+  const bool untracked_parallax = !track.ok && result->parallax_px >= opt.keyframe_parallax_px;
+  if (opt.inertial)
+    return keyframe || untracked_parallax ||
+           since_keyframe >= opt.inertial->max_imu_factor_span_s;
   return keyframe;
 }
 

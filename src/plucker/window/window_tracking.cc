@@ -19,7 +19,8 @@ Prediction SlidingWindowEstimator::Impl::PredictFrame(const FrameInput& input) c
   Prediction p;
   if (opt.inertial) {
     p.state = Predict(input.time, &p.imu);
-    p.stationary = BelievedStationary(input.stationary, keyframes.back()->State().v_w);
+    p.stationary = BelievedStationary(input.stationary, keyframes.back()->State().v_w) &&
+                   p.state.v_w.norm() < opt.inertial->stationary_max_predicted_speed;
     if (p.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
       p.state.T_w_b = keyframes.back()->State().T_w_b;
       p.state.v_w.setZero();
