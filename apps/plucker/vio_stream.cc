@@ -135,10 +135,11 @@ void ReplaceVioCalibration(const CameraCalibration& calib, VioInput* in) {
   SetCalibration(calib, in);
   if (calib.timeshift_cam_imu == 0.0 || in->images.empty()) return;
   for (io::EurocFrame& f : in->images) f.t += calib.timeshift_cam_imu;
-  std::vector<std::string> skipped, warnings;
-  io::CheckImuCoverage(in->imu, {}, in->source + ": cam0/data.csv", &in->images, &skipped,
-                       &warnings);
-  for (const std::string& w : skipped) {
+  std::vector<io::FrameSkip> skipped;
+  std::vector<std::string> warnings;
+  io::CheckImuCoverage(in->imu, {}, in->source + ": cam0/data.csv", in->source + ": imu0/data.csv",
+                       &in->images, &skipped, &warnings);
+  for (const std::string& w : io::ToStrings(skipped)) {
     in->warnings.push_back("skipped " + w + " (the frame time moved by timeshift_cam_imu " +
                            std::to_string(calib.timeshift_cam_imu) + " s of " + calib.source + ")");
   }
