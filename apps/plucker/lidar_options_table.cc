@@ -240,6 +240,32 @@ std::vector<LidarOption> MakeTable() {
           {"scan_order", RingSource::kScanOrder},
           {"elevation", RingSource::kElevation},
           {"auto_elevation", RingSource::kAutoElevation}}));
+  t.push_back(Choice("sensor",
+                     "auto: the model detected where rings come from elevation; a model: its "
+                     "elevation table there (ring_source elevation, a PCD without ring), and "
+                     "the first scan must fit it; generic: no rings, features from local "
+                     "geometry (as --sensor)",
+                     PLUCKER_MEMBER(odometry.sensor),
+                     std::vector<std::pair<std::string, std::string>>{{"auto", "auto"},
+                                                                      {"hdl64", "hdl64"},
+                                                                      {"vlp32", "vlp32"},
+                                                                      {"vlp16", "vlp16"},
+                                                                      {"os1-64", "os1-64"},
+                                                                      {"os1-128", "os1-128"},
+                                                                      {"generic", "generic"}}));
+  // generic: lidar/geometric_features.h (sensor generic)
+  t.push_back(Option("generic.voxel_size", "m", "downsampling before the neighbour search",
+                     PLUCKER_MEMBER(odometry.generic.voxel_size)));
+  t.push_back(Option("generic.neighbours", "points", "k nearest neighbours (5..32)",
+                     PLUCKER_MEMBER(odometry.generic.neighbours)));
+  t.push_back(Option("generic.max_neighbour_distance", "m", "farthest of the k neighbours",
+                     PLUCKER_MEMBER(odometry.generic.max_neighbour_distance)));
+  t.push_back(Option("generic.edge_ratio", "", "l1 > ratio * l2: an edge",
+                     PLUCKER_MEMBER(odometry.generic.edge_ratio)));
+  t.push_back(Option("generic.plane_ratio", "", "l3 < ratio * l2: a plane",
+                     PLUCKER_MEMBER(odometry.generic.plane_ratio)));
+  t.push_back(Option("generic.plane_max_thickness", "m", "and sqrt(l3) below this",
+                     PLUCKER_MEMBER(odometry.generic.plane_max_thickness)));
   t.push_back(Option("map_cleanup_every", "frames", "frames between map cropping",
                      PLUCKER_MEMBER(odometry.map_cleanup_every)));
   // output
@@ -257,6 +283,7 @@ const char* GroupComment(const std::string& group) {
   if (group == "plane_map") return "lidar/voxel_map.h, the local map of plane points";
   if (group == "registration") return "scan-to-map registration, lidar/odometry.h";
   if (group == "degeneracy") return "lidar/degeneracy.h";
+  if (group == "generic") return "lidar/geometric_features.h (sensor: generic)";
   if (group == "output") return "plucker lidar outputs";
   return "";
 }
