@@ -8,6 +8,7 @@
 #include <random>
 
 #include "plucker/lidar/sensor_check.h"
+#include "plucker/lidar/sim_test_utils.h"
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
@@ -16,26 +17,10 @@ namespace plucker {
 namespace lidar {
 namespace {
 
-sim::LidarSimOptions SimOptions(const sensor::LidarModel& m, bool distortion) {
-  sim::LidarSimOptions o;
-  o.elevation_rad = m.elevation_rad;
-  o.azimuth_steps = std::max(8, m.azimuth_steps);
-  o.rate_hz = m.rate_hz;
-  o.min_range = m.min_range;
-  o.max_range = m.max_range;
-  o.spinning = m.spinning;
-  o.min_elevation_rad = m.min_elevation_rad;
-  o.max_elevation_rad = m.max_elevation_rad;
-  o.rays_per_scan = m.rays_per_scan;
-  o.range_noise_sigma = 0.01;
-  o.distortion = distortion;
-  return o;
-}
-
 LidarScan Simulate(const sensor::LidarModel& m, bool distortion = false) {
   const sim::LidarScene scene = sim::MakeUrbanScene();
   const sim::VehicleTrajectory trajectory(scene.route);
-  return sim::LidarSimulator(scene, SimOptions(m, distortion)).Scan(trajectory, 3.0, 0);
+  return sim::LidarSimulator(scene, SimOptionsFor(m, distortion)).Scan(trajectory, 3.0, 0);
 }
 
 // A ground plane z = -1.7 (10 x 10 m), a vertical pole at (5, 0) and random clutter, shuffled:

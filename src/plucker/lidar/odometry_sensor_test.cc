@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plucker/lidar/odometry.h"
+#include "plucker/lidar/sim_test_utils.h"
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
@@ -27,15 +28,7 @@ double MeanRelativeError(const sensor::LidarModel& model, Time time, DeskewMode 
   sim::VehicleTrajectoryOptions motion;
   motion.speed_variation = speed_variation;
   const sim::VehicleTrajectory trajectory(scene.route, motion);
-  sim::LidarSimOptions o;
-  o.elevation_rad = model.elevation_rad;
-  o.azimuth_steps = std::max(8, model.azimuth_steps);
-  o.spinning = model.spinning;
-  o.min_elevation_rad = model.min_elevation_rad;
-  o.max_elevation_rad = model.max_elevation_rad;
-  o.rays_per_scan = model.rays_per_scan;
-  o.range_noise_sigma = 0.01;
-  o.distortion = true;
+  const sim::LidarSimOptions o = SimOptionsFor(model, true);
   const sim::LidarSimulator simulator(scene, o);
   LidarOdometryOptions options;
   options.sensor = model.spinning ? "auto" : "generic";
