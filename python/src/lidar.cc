@@ -67,7 +67,7 @@ class PyLidarOdometry {
     if (sensor != "auto") sensor::LidarModelFromName(sensor);  // validates the name
     if (threads < 1) throw py::value_error("LidarOdometry: threads must be >= 1");
     lidar::LidarOdometryOptions o = config_.odometry;
-    o.sensor = sensor;
+    if (sensor != "auto") o.sensor = sensor;  // else the config key `sensor` (default auto)
     o.num_threads = threads;
     odometry_ = std::make_unique<lidar::LidarOdometry>(o);
   }
