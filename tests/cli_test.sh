@@ -93,6 +93,41 @@ expect lidar-refuses-to-overwrite-input nonzero "" -- \
   "$PLUCKER" lidar --data "$T/sim" --out "$T/sim/poses.txt" --quiet
 expect lidar-input-kept 0 "" -- cmp "$T/sim/poses.txt" "$T/sim/poses.txt"
 
+# Sensor modes (--sensor): an unknown name, a generic (ring-less) cloud given as an HDL-64E, the
+# generic and Ouster modes on their simulated sensors, PCD time fields that are no per-point time.
+expect lidar-sensor-unknown nonzero "livox" -- \
+  "$PLUCKER" lidar --data "$T/sim" --out "$T/x.txt" --sensor livox
+expect sim-lidar-generic 0 "generic frames" -- \
+  "$PLUCKER" sim lidar --out "$T/sim_gen" --frames 6 --sensor generic --distortion
+expect lidar-generic-as-hdl64 nonzero "000000.pcd: --sensor hdl64: does not look like a hdl64 cloud.*--sensor generic" -- \
+  "$PLUCKER" lidar --data "$T/sim_gen" --out "$T/gen_hdl.txt" --sensor hdl64 --quiet
+expect lidar-generic-as-hdl64-no-output nonzero "" -- test -e "$T/gen_hdl.txt"
+expect lidar-generic 0 "" -- "$PLUCKER" lidar --data "$T/sim_gen" --out "$T/gen.txt" --sensor generic --quiet
+expect lidar-generic-rows 0 "^6$" -- bash -c "wc -l < '$T/gen.txt'"
+expect sim-lidar-os1 0 "os1-64 frames" -- \
+  "$PLUCKER" sim lidar --out "$T/sim_os1" --frames 4 --sensor os1-64 --distortion --speed-variation 3
+expect lidar-os1 0 "" -- "$PLUCKER" lidar --data "$T/sim_os1" --out "$T/os1.txt" --sensor os1-64 --quiet
+expect lidar-os1-as-vlp16 nonzero "ring field goes up to 63; a vlp16 has 16 beams" -- \
+  "$PLUCKER" lidar --data "$T/sim_os1" --out "$T/os1_v.txt" --sensor vlp16 --quiet
+mkdir -p "$T/pcd_t0" "$T/pcd_tnan" "$T/pcd_tns"
+write_pcd() {  # folder, time expression of the point index i
+  for f in 0 1; do
+    { printf 'VERSION 0.7\nFIELDS x y z t\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n'
+      printf 'WIDTH 400\nHEIGHT 1\nPOINTS 400\nDATA ascii\n'
+      for i in $(seq 0 399); do echo "$((5 + i % 20)) $((i / 20)) -1.5 $(eval echo "$2")"; done
+    } > "$1/00000$f.pcd"
+  done
+}
+write_pcd "$T/pcd_t0" 0
+write_pcd "$T/pcd_tnan" nan
+write_pcd "$T/pcd_tns" '$((i * 250000))'
+expect lidar-pcd-time-all-zero 0 "skipped frame 0: .*000000.pcd.*time field 't' is constant" -- \
+  "$PLUCKER" lidar --data "$T/pcd_t0" --out "$T/t0.txt" --quiet
+expect lidar-pcd-time-nan 0 "skipped frame 0: .*000000.pcd.*non-finite point time in field 't'" -- \
+  "$PLUCKER" lidar --data "$T/pcd_tnan" --out "$T/tnan.txt" --quiet
+expect lidar-pcd-time-in-ns-as-float nonzero "000000.pcd: the point times span 9.975e.07 s" -- \
+  "$PLUCKER" lidar --data "$T/pcd_tns" --out "$T/tns.txt" --quiet
+
 # Bad trajectory files: the error names the file and the line.
 printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 zz 0 1 0 0 0 0 1 0\n' > "$T/bad_poses.txt"
 expect eval-bad-number nonzero "bad_poses.txt:2" -- \

@@ -25,6 +25,7 @@
 #include "plucker/io/ply.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/lidar/odometry.h"
+#include "plucker/lidar/sensor_check.h"
 #include "plucker/lidar/voxel_map.h"
 #include "plucker/sensor/lidar_model.h"
 #include "process_setup.h"
@@ -39,7 +40,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct LidarArgs {
-  std::string data, sequence, out, config, sensor = "auto", map, tum, json, frame = "cam0";
+  std::string data, sequence, out, config, sensor, map, tum, json, frame = "cam0";
   std::string bag, topic, stamp = "header";  // --bag input instead of --data
   bool quiet = false;
   int threads = 1;
@@ -88,6 +89,31 @@ nlohmann::json Vec(const Eigen::MatrixBase<Derived>& v) {
   return j;
 }
 
+// The first readable scan against a named spinning sensor (lidar/sensor_check.h): a cloud that
+// cannot come from it is an error naming the frame, before any pose is computed.
+// Point times spanning more than this are not one sweep's (a unit the readers misread).
+constexpr double kMaxSweepSeconds = 1.0;
+
+void CheckSensor(const LidarInput& seq, std::size_t i, const LidarScan& scan,
+                 const std::string& sensor_name) {
+  const std::string where = seq.sequence() ? seq.sequence()->frame(i).path
+                                           : seq.description() + ", message " + std::to_string(i);
+  if (!scan.time.empty()) {
+    const double span = *std::max_element(scan.time.begin(), scan.time.end());
+    if (span > kMaxSweepSeconds) {
+      std::ostringstream m;
+      m << where << ": the point times span " << span
+        << " s, more than one sweep: the time field's unit is not the readers' (float: "
+           "seconds, integer: nanoseconds; docs/lidar-odometry.md, per-point time)";
+      throw std::runtime_error(m.str());
+    }
+  }
+  if (sensor_name == "auto") return;
+  const lidar::SensorCheck c =
+      lidar::CheckScanMatchesSensor(scan, sensor::LidarModelFromName(sensor_name));
+  if (!c.ok) throw std::runtime_error(where + ": --sensor " + sensor_name + ": " + c.reason);
+}
+
 int RunLidar(const LidarArgs& a) {
   SetUpProcess(LidarPipelineSetup());
   LidarConfig config;
@@ -96,8 +122,8 @@ int RunLidar(const LidarArgs& a) {
   lidar::LidarOdometryOptions options = config.odometry;
   const double map_voxel = config.map_voxel_size;
   options.num_threads = std::max(1, a.threads);
-  if (a.sensor != "auto") sensor::LidarModelFromName(a.sensor);  // validates the name
-  options.sensor = a.sensor;
+  if (!a.sensor.empty()) options.sensor = a.sensor;  // else the config's (default auto)
+  if (options.sensor != "auto") sensor::LidarModelFromName(options.sensor);  // validates it
   if (a.frame != "cam0" && a.frame != "lidar")
     throw std::runtime_error("--frame must be cam0 or lidar, got '" + a.frame + "'");
 
@@ -134,6 +160,7 @@ int RunLidar(const LidarArgs& a) {
   const std::size_t n = seq.size();
   LidarScan scan;  // refilled in place frame after frame (no per-frame allocation)
   std::vector<Eigen::Vector3d> scan_points;
+  bool sensor_checked = false;
   for (std::size_t i = 0; i < n; ++i) {
     const auto t0 = Clock::now();
     const double cpu0 = ThreadCpuMs();
@@ -144,6 +171,10 @@ int RunLidar(const LidarArgs& a) {
     const double read_cpu_ms = ThreadCpuMs() - cpu0;
     times.push_back(stamp);
 
+    if (read_ok && !sensor_checked) {
+      CheckSensor(seq, i, scan, options.sensor);
+      sensor_checked = true;
+    }
     lidar::FrameResult r;
     double odometry_ms = 0.0, odometry_cpu_ms = 0.0;
     if (!read_ok) {
@@ -308,8 +339,12 @@ void RegisterLidar(CLI::App& app, int* exit_code) {
   cmd->add_option("--config", args->config,
                   "YAML options (every key with its default: `plucker config lidar`, "
                   "config/lidar_default.yaml)");
-  cmd->add_option("--sensor", args->sensor, "hdl64 | vlp32 | vlp16 | auto (rings from elevation)")
-      ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16", "auto"}));
+  cmd->add_option("--sensor", args->sensor,
+                  "auto (default: rings from the cloud's ring field or firing order) | hdl64 | "
+                  "vlp32 | vlp16 | os1-64 | os1-128 (their elevation tables for clouds without "
+                  "rings; the first scan must fit) | generic (no rings, no spinning order: "
+                  "features from local geometry); overrides the config key `sensor`")
+      ->check(CLI::IsMember({"auto", "hdl64", "vlp32", "vlp16", "os1-64", "os1-128", "generic"}));
   cmd->add_option("--map", args->map, "Write the accumulated, voxel-downsampled map (PLY)");
   cmd->add_option("--map-voxel", args->map_voxel, "Voxel size of --map in metres (default 0.2)");
   cmd->add_option("--tum", args->tum, "Also write a TUM trajectory (times from times.txt)");

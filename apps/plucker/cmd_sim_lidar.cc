@@ -39,6 +39,7 @@ struct SimLidarArgs {
   std::uint64_t seed = 1;
   double noise = 0.02;
   bool distortion = false;
+  double speed_variation = 0.0;  // m/s, sinusoidal over 4 s (accelerations): VehicleTrajectory
 };
 
 // Refuses a non-empty folder that is not a previous simulator output; clears the frames of a
@@ -78,7 +79,11 @@ int Run(const SimLidarArgs& args) {
   if (!(args.noise >= 0)) throw std::invalid_argument("--noise must be >= 0");
   const sensor::LidarModel sensor = sensor::LidarModelFromName(args.sensor);
   const sim::LidarScene scene = sim::MakeScene(args.scene, args.seed);
-  const sim::VehicleTrajectory trajectory(scene.route);
+  if (!(args.speed_variation >= 0.0 && args.speed_variation < 10.0))
+    throw std::invalid_argument("--speed-variation must be in [0, 10) m/s (the speed is 10 m/s)");
+  sim::VehicleTrajectoryOptions motion;
+  motion.speed_variation = args.speed_variation;
+  const sim::VehicleTrajectory trajectory(scene.route, motion);
 
   const sim::LidarSimOptions options =
       LidarSimOptionsFor(sensor, args.noise, args.distortion, args.seed);
@@ -97,6 +102,9 @@ int Run(const SimLidarArgs& args) {
          << "\nseed " << args.seed << "\nnoise " << args.noise << "\ndistortion "
          << (args.distortion ? 1 : 0) << "\nrate_hz " << sensor.rate_hz << "\nloop_length_m "
          << trajectory.loop_length() << "\n";
+  if (args.speed_variation > 0.0)
+    marker << "speed_variation " << args.speed_variation << " (m/s, period " << motion.speed_period
+           << " s)\n";
   io::WriteFileAtomically((out / kMarker).string(), marker.str());
 
   std::vector<SE3d> poses;
@@ -142,8 +150,10 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
       ->check(CLI::IsMember({"urban", "corridor"}))
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of scans (10 Hz)")->capture_default_str();
-  cmd->add_option("--sensor", args->sensor, "Sensor model: hdl64, vlp32 or vlp16")
-      ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16"}))
+  cmd->add_option("--sensor", args->sensor,
+                  "Sensor model: hdl64, vlp32, vlp16, os1-64, os1-128 (spinning, rings) or "
+                  "generic (Livox-like: no rings, no spinning order)")
+      ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16", "os1-64", "os1-128", "generic"}))
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Random seed (scene layout and noise)")
       ->capture_default_str();
@@ -151,6 +161,9 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
   cmd->add_flag("--distortion", args->distortion,
                 "Move the sensor during each sweep and also write pcd/NNNNNN.pcd with per-point "
                 "time (for deskewing)");
+  cmd->add_option("--speed-variation", args->speed_variation,
+                  "Vary the 10 m/s speed by this much (m/s), sinusoidally over 4 s: "
+                  "accelerations up to 1.57 times this in m/s^2 (default 0: constant speed)");
   cmd->callback(
       [args, exit_code]() { RunGuarded("sim lidar", exit_code, [&] { return Run(*args); }); });
 }

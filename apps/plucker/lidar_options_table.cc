@@ -139,6 +139,31 @@ std::vector<LidarOption> MakeRows() {
           {"scan_order", RingSource::kScanOrder},
           {"elevation", RingSource::kElevation},
           {"auto_elevation", RingSource::kAutoElevation}});
+  t.Choice("sensor",
+           "auto: the model detected where rings come from elevation; a model: its elevation "
+           "table there (ring_source elevation, a PCD without ring), and the first scan must fit "
+           "it; generic: no rings, features from local geometry (as --sensor)",
+           PLUCKER_OPTION_MEMBER(odometry.sensor),
+           std::vector<std::pair<std::string, std::string>>{{"auto", "auto"},
+                                                            {"hdl64", "hdl64"},
+                                                            {"vlp32", "vlp32"},
+                                                            {"vlp16", "vlp16"},
+                                                            {"os1-64", "os1-64"},
+                                                            {"os1-128", "os1-128"},
+                                                            {"generic", "generic"}});
+  // generic: lidar/geometric_features.h (sensor generic)
+  t.Value("generic.voxel_size", "m", "downsampling before the neighbour search", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.generic.voxel_size));
+  t.Value("generic.neighbours", "points", "k nearest neighbours", Between(5, 32),
+          PLUCKER_OPTION_MEMBER(odometry.generic.neighbours));
+  t.Value("generic.max_neighbour_distance", "m", "farthest of the k neighbours", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.generic.max_neighbour_distance));
+  t.Value("generic.edge_ratio", "", "l1 > ratio * l2: an edge", AtLeast(1.0),
+          PLUCKER_OPTION_MEMBER(odometry.generic.edge_ratio));
+  t.Value("generic.plane_ratio", "", "l3 < ratio * l2: a plane", Between(0.0, 1.0),
+          PLUCKER_OPTION_MEMBER(odometry.generic.plane_ratio));
+  t.Value("generic.plane_max_thickness", "m", "and sqrt(l3) below this", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.generic.plane_max_thickness));
   t.Value("map_cleanup_every", "frames", "frames between map cropping", Between(1, 1000000),
           PLUCKER_OPTION_MEMBER(odometry.map_cleanup_every));
   t.Value("output.map_voxel_size", "m", "downsampling of --map (as --map-voxel)", AtLeast(0.0),
@@ -157,6 +182,7 @@ const LidarOptionsTable& LidarOptions() {
                  {"plane_map", "lidar/voxel_map.h, the local map of plane points"},
                  {"registration", "scan-to-map registration, lidar/odometry.h"},
                  {"degeneracy", "lidar/degeneracy.h"},
+                 {"generic", "lidar/geometric_features.h (sensor: generic)"},
                  {"output", "plucker lidar outputs"}},
                 {}},
       MakeRows());

@@ -21,6 +21,10 @@ inline sim::LidarSimOptions LidarSimOptionsFor(const sensor::LidarModel& sensor,
   options.max_range = sensor.max_range;
   options.range_noise_sigma = range_noise_sigma;
   options.distortion = distortion;
+  options.spinning = sensor.spinning;
+  options.min_elevation_rad = sensor.min_elevation_rad;
+  options.max_elevation_rad = sensor.max_elevation_rad;
+  options.rays_per_scan = sensor.rays_per_scan;
   options.seed = seed;
   return options;
 }

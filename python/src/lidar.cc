@@ -52,7 +52,7 @@ class PyLidarOdometry {
     if (sensor != "auto") sensor::LidarModelFromName(sensor);  // validates the name
     if (threads < 1) throw py::value_error("LidarOdometry: threads must be >= 1");
     lidar::LidarOdometryOptions o = config_.odometry;
-    o.sensor = sensor;
+    if (sensor != "auto") o.sensor = sensor;  // else the config key `sensor` (default auto)
     o.num_threads = threads;
     odometry_ = std::make_unique<lidar::LidarOdometry>(o);
   }
@@ -172,7 +172,7 @@ void RegisterLidar(py::module_& m) {
           py::arg("config") = py::none(), py::arg("sensor") = "auto", py::arg("threads") = 1,
           "Options are the keys of `plucker config lidar`, dotted (**{'features.min_range': 2.0})\n"
           "or grouped (features={'min_range': 2.0}); config: a YAML file as --config; sensor:\n"
-          "hdl64 | vlp32 | vlp16 | auto; threads as --threads. Unknown keys and wrong types raise\n"
+          "auto | hdl64 | vlp32 | vlp16 | os1-64 | os1-128 | generic; threads as --threads. Unknown keys and wrong types raise\n"
           "ValueError naming the key.")
       .def("register", &PyLidarOdometry::Register, py::arg("points"),
            py::arg("timestamp") = py::none(),

@@ -166,10 +166,15 @@ std::string CloudToScan(const CloudLayout& layout, const std::uint8_t* data, std
   if (scan->points.empty()) return "no finite point (" + std::to_string(n) + " points)";
   if (!scan->time.empty()) {
     double t_min = std::numeric_limits<double>::infinity();
+    double t_max = -t_min;
     for (double t : scan->time) {
       if (!std::isfinite(t)) return "non-finite point time in field '" + time->name + "'";
       t_min = std::min(t_min, t);
+      t_max = std::max(t_max, t);
     }
+    if (scan->time.size() > 1 && t_max == t_min)
+      return "time field '" + time->name + "' is constant (all " + std::to_string(t_min) +
+             "): no per-point time";
     if (t_min < 0.0 || t_min > 1.0) {
       for (double& t : scan->time) t -= t_min;
       if (t_min > 1.0) scan->timestamp = t_min;

@@ -409,10 +409,18 @@ void ParsePcd(const std::string& bytes, const std::string& name, LidarScan* out,
   }
   if (!scan.time.empty()) {
     double t_min = std::numeric_limits<double>::infinity();
+    double t_max = -t_min;
     for (double& t : scan.time) {
-      if (!std::isfinite(t)) throw IoError(name, "non-finite point time");
+      if (!std::isfinite(t))
+        throw IoError(name, "non-finite point time in field '" + h.fields[ch.time].name + "'");
       t_min = std::min(t_min, t);
+      t_max = std::max(t_max, t);
     }
+    if (scan.time.size() > 1 && t_max == t_min)
+      throw IoError(name, "time field '" + h.fields[ch.time].name + "' is constant (all " +
+                              std::to_string(t_min) + " over " + std::to_string(scan.time.size()) +
+                              " points): no per-point time; drop the field to deskew from "
+                              "the azimuth (constant velocity)");
     if (t_min < 0.0 || t_min > 1.0) {
       for (double& t : scan.time) t -= t_min;
       if (t_min > 1.0) scan.timestamp = t_min;

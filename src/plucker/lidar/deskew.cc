@@ -23,5 +23,13 @@ bool DeskewPoints(const SE3d& T_start_end, double period, const std::vector<doub
   return true;
 }
 
+bool RedistortPoints(const SE3d& T_start_end, double period, const std::vector<double>& times,
+                     std::vector<Eigen::Vector3d>* points) {
+  if (times.size() != points->size() || !(period > 0.0)) return false;
+  for (std::size_t i = 0; i < points->size(); ++i)
+    (*points)[i] = InterpolateMotion(T_start_end, times[i] / period).Inverse() * (*points)[i];
+  return true;
+}
+
 }  // namespace lidar
 }  // namespace plucker

@@ -21,5 +21,9 @@ SE3d InterpolateMotion(const SE3d& T_start_end, double fraction);
 bool DeskewPoints(const SE3d& T_start_end, double period, const std::vector<double>& times,
                   std::vector<Eigen::Vector3d>* points);
 
+// The inverse of DeskewPoints: points in the scan-start frame back to the frame of their time.
+bool RedistortPoints(const SE3d& T_start_end, double period, const std::vector<double>& times,
+                     std::vector<Eigen::Vector3d>* points);
+
 }  // namespace lidar
 }  // namespace plucker

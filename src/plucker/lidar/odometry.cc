@@ -12,6 +12,7 @@
 #include "plucker/geometry/fitting.h"
 #include "plucker/lidar/deskew.h"
 #include "plucker/lidar/pose_solver.h"
+#include "plucker/lidar/sweep_motion.h"
 #include "plucker/sensor/lidar_model.h"
 
 namespace plucker {
@@ -128,13 +129,26 @@ void Notify(const StageObserver& observer, Stage stage) { observer ? observer(st
 
 // The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
 // deskewing).
+// The extractor of a scan: LOAM's per ring, or (sensor generic) local geometry, with per-point
+// time after a deskew with the sweep motion T_sweep (sweep_motion.h).
+struct Extractors {
+  FeatureExtractor* rings = nullptr;
+  GeometricFeatureExtractor* geometric = nullptr;  // generic
+  SweepFeatureExtractor* sweep = nullptr;          // generic with per-point time
+  SE3d T_sweep;
+};
+
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
-                         bool all, FeatureExtractor* extractor, ScanFeatures* features,
+                         bool all, const Extractors& x, ScanFeatures* features,
                          std::string* error) {
   FeatureOptions feature_options = o.features;
   feature_options.compute_times = deskew;
   feature_options.num_threads = o.num_threads;
-  if (!extractor->Extract(scan, feature_options, features, error)) return false;
+  const bool ok =
+      x.sweep       ? x.sweep->Extract(scan, x.T_sweep, feature_options, o.generic, features, error)
+      : x.geometric ? x.geometric->Extract(scan, feature_options, o.generic, features, error)
+                    : x.rings->Extract(scan, feature_options, features, error);
+  if (!ok) return false;
   if (!o.use_edges) features->edges.clear();
   if (all) return true;
   StrideSample(o.max_edge_points, &features->edges, &features->edge_times);
@@ -150,6 +164,7 @@ class LidarOdometry::Impl {
       : loss(factors::MakeLossFunction(o.loss, o.loss_scale)) {
     if (o.num_threads > 1) arena = std::make_unique<tbb::task_arena>(o.num_threads);
     if (o.sensor != "auto") sensor = sensor::LidarModelFromName(o.sensor);
+    generic = sensor && !sensor->spinning;
   }
 
   // matches = the successful match_fn(plane, i), i < n, in order (in parallel: the same result).
@@ -214,6 +229,9 @@ class LidarOdometry::Impl {
   std::vector<NeighbourCache> plane_cache, edge_cache;  // one per feature point of the scan
   LidarResiduals residuals;
   FeatureExtractor feature_extractor;  // these buffers are kept across scans (no heap churn)
+  GeometricFeatureExtractor geometric_extractor;  // --sensor generic
+  SweepFeatureExtractor sweep_extractor;          // generic with per-point time
+  bool generic = false;
   ScanFeatures features;
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
@@ -269,24 +287,33 @@ FrameResult LidarOdometry::ProcessScan(const LidarScan& scan, const StageObserve
 
 FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& observer) {
   Notify(observer, Stage::kRings);
-  AssignScanRings(&scan);
+  if (!impl_->generic) AssignScanRings(&scan);
   Notify(observer, Stage::kFeatures);
-  const bool deskew =
-      options_.deskew == DeskewMode::kOn ||
-      (options_.deskew == DeskewMode::kAuto && scan.time.size() == scan.size() && !scan.empty());
+  const bool has_time = scan.time.size() == scan.size() && !scan.empty();
+  // generic: no spinning order, so no time without the scan's own (deskew on is then a no-op).
+  const bool deskew = (options_.deskew == DeskewMode::kOn && (has_time || !impl_->generic)) ||
+                      (options_.deskew == DeskewMode::kAuto && has_time);
   ScanFeatures& features = impl_->features;  // kept across scans: no per-scan heap churn
   std::string error;
   // The first scan is not registered: all its features seed the map (a one-scan map of the
   // capped features is too sparse for the 1 m search of the next scan at speed).
   const bool seed_all = poses_.empty();
-  if (!ExtractScanFeatures(scan, options_, deskew, seed_all, &impl_->feature_extractor, &features,
-                           &error)) {
+  SE3d T_w_s_pred = PredictPose(poses_, options_.constant_velocity);
+  Extractors x{&impl_->feature_extractor};
+  if (impl_->generic && !(deskew && has_time)) x.geometric = &impl_->geometric_extractor;
+  if (impl_->generic && deskew && has_time) {  // the sweep motion: constant velocity, or search
+    x.sweep = &impl_->sweep_extractor;
+    const std::size_t n = poses_.size();
+    x.T_sweep = n >= 2 ? poses_[n - 2].Inverse() * poses_[n - 1]
+                       : x.sweep->SearchForwardMotion(scan, options_.features, options_.generic);
+    if (n == 1) T_w_s_pred = poses_.back() * x.T_sweep;
+  }
+  if (!ExtractScanFeatures(scan, options_, deskew, seed_all, x, &features, &error)) {
     Notify(observer, Stage::kDone);
     return SkipFrame(error);
   }
   FrameResult result;
   result.features = features.stats;
-  const SE3d T_w_s_pred = PredictPose(poses_, options_.constant_velocity);
   RegisterToMap(T_w_s_pred, deskew, observer, &features, &result);
   Notify(observer, Stage::kMapUpdate);
   UpdateMap(deskew, &features, &result);

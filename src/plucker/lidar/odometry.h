@@ -22,6 +22,7 @@
 #include "plucker/geometry/se3.h"
 #include "plucker/lidar/degeneracy.h"
 #include "plucker/lidar/features.h"
+#include "plucker/lidar/geometric_features.h"
 #include "plucker/lidar/voxel_map.h"
 #include "plucker/sensor/lidar_scan.h"
 
@@ -40,7 +41,12 @@ enum class DeskewMode { kAuto, kOn, kOff };  // kAuto: on when the scan has per-
 struct LidarOdometryOptions {
   FeatureOptions features;
   RingSource ring_source = RingSource::kAuto;
-  std::string sensor = "auto";  // hdl64 | vlp32 | vlp16 | auto (for kElevation)
+  // hdl64 | vlp32 | vlp16 | os1-64 | os1-128 (the elevation table of kElevation) | auto (detected
+  // for kElevation) | generic: no rings, no spinning order (Livox-like): ring_source is ignored,
+  // features come from local geometry (`generic`, geometric_features.h) and deskewing needs the
+  // scan's per-point time (there is no azimuth order to derive it from).
+  std::string sensor = "auto";
+  GeometricFeatureOptions generic;
   DeskewMode deskew = DeskewMode::kAuto;
 
   VoxelMapOptions edge_map{1.0, 10, 0.2, 100.0};  // voxel, cap, spacing, radius

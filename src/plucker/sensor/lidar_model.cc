@@ -96,13 +96,52 @@ LidarModel VLP16() {
   return m;
 }
 
+namespace {
+
+LidarModel OusterOS1(int beams) {
+  LidarModel m;
+  m.name = "os1-" + std::to_string(beams);
+  std::vector<double> deg;
+  for (int i = 0; i < beams; ++i) deg.push_back(-22.5 + 45.0 * i / (beams - 1));
+  m.elevation_rad = SortedRadians(deg);
+  m.min_range = 0.5;
+  m.max_range = 120.0;
+  m.azimuth_steps = 1024;
+  m.rate_hz = 10.0;
+  return m;
+}
+
+}  // namespace
+
+LidarModel OS1_64() { return OusterOS1(64); }
+LidarModel OS1_128() { return OusterOS1(128); }
+
+LidarModel GenericLidar() {
+  LidarModel m;
+  m.name = "generic";
+  m.spinning = false;
+  m.min_elevation_rad = -25.0 * kDeg;
+  m.max_elevation_rad = 15.0 * kDeg;
+  m.rays_per_scan = 40000;
+  m.min_range = 0.5;
+  m.max_range = 100.0;
+  m.azimuth_steps = 0;
+  m.rate_hz = 10.0;
+  return m;
+}
+
+const char* LidarModelNames() { return "hdl64, vlp32, vlp16, os1-64, os1-128, generic"; }
+
 LidarModel LidarModelFromName(const std::string& name) {
   std::string n = name;
   for (char& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (n == "hdl64") return HDL64();
   if (n == "vlp32") return VLP32();
   if (n == "vlp16") return VLP16();
-  throw std::invalid_argument("unknown sensor '" + name + "' (expected hdl64, vlp32 or vlp16)");
+  if (n == "os1-64") return OS1_64();
+  if (n == "os1-128") return OS1_128();
+  if (n == "generic") return GenericLidar();
+  throw std::invalid_argument("unknown sensor '" + name + "' (expected " + LidarModelNames() + ")");
 }
 
 RingAssignmentStats AssignRings(LidarScan* scan, const LidarModel& model) {

@@ -29,6 +29,13 @@ struct LidarModel {
   double max_range = 120.0;           // metres
   int azimuth_steps = 2000;           // firings per revolution
   double rate_hz = 10.0;              // revolutions per second
+  // false: no rings and no spinning order (Livox-like, "generic"): elevation_rad is empty, the
+  // field of view is min/max_elevation_rad over 360 deg of azimuth, rays_per_scan rays per scan
+  // in a non-repeating order (sim/lidar_sim.h), features from local geometry
+  // (lidar/geometric_features.h).
+  bool spinning = true;
+  double min_elevation_rad = 0.0, max_elevation_rad = 0.0;  // generic only
+  int rays_per_scan = 0;                                    // generic only
 
   int num_rings() const { return static_cast<int>(elevation_rad.size()); }
   // Nearest beam to `elevation_rad`, or -1 when it lies outside the table by more than half of
@@ -45,8 +52,21 @@ LidarModel HDL64();
 LidarModel VLP32();
 // Velodyne VLP-16 (Puck): -15 .. +15 deg every 2 deg. 0.5 .. 100 m, 1800 azimuth steps.
 LidarModel VLP16();
-// "hdl64" | "vlp32" | "vlp16" (case-insensitive); throws std::invalid_argument otherwise.
+// Ouster OS1-64 / OS1-128: 64 / 128 beams uniformly spaced over the 45 deg vertical field of view
+// (+22.5 .. -22.5 deg) of the OS1 Rev 6 datasheet's uniform beam configuration; 1024 columns per
+// revolution at 10 Hz (the 1024x10 mode), 0.5 .. 120 m. A real unit's beam_altitude_angles (its
+// metadata) differ by up to a few tenths of a degree: clouds from the driver carry a ring field,
+// which is used instead of this table.
+LidarModel OS1_64();
+LidarModel OS1_128();
+// A cloud without rings and without a spinning order (Livox-like): 360 deg azimuth, elevations
+// -25 .. +15 deg, 40000 rays per scan at 10 Hz, 0.5 .. 100 m. spinning = false.
+LidarModel GenericLidar();
+// "hdl64" | "vlp32" | "vlp16" | "os1-64" | "os1-128" | "generic" (case-insensitive); throws
+// std::invalid_argument naming the accepted names otherwise.
 LidarModel LidarModelFromName(const std::string& name);
+// The accepted names, "hdl64, vlp32, vlp16, os1-64, os1-128, generic".
+const char* LidarModelNames();
 
 struct RingAssignmentStats {
   int rings_found = 0;         // distinct rings that received points

@@ -56,6 +56,31 @@ TEST(LidarModel, Tables) {
   EXPECT_THROW(LidarModelFromName("ouster"), std::invalid_argument);
 }
 
+TEST(LidarModel, OusterAndGeneric) {
+  for (const auto& [m, beams] : {std::pair{OS1_64(), 64}, std::pair{OS1_128(), 128}}) {
+    EXPECT_EQ(m.num_rings(), beams);
+    EXPECT_TRUE(m.spinning);
+    EXPECT_NEAR(m.elevation_rad.front(), -22.5 * kDeg, 1e-12);
+    EXPECT_NEAR(m.elevation_rad.back(), 22.5 * kDeg, 1e-12);
+    for (int r = 1; r < m.num_rings(); ++r)
+      EXPECT_NEAR(m.elevation_rad[r] - m.elevation_rad[r - 1], 45.0 / (beams - 1) * kDeg, 1e-12);
+    EXPECT_EQ(m.azimuth_steps, 1024);
+    EXPECT_EQ(LidarModelFromName(m.name).name, m.name);
+  }
+  EXPECT_EQ(LidarModelFromName("OS1-128").name, "os1-128");
+  const LidarModel g = LidarModelFromName("generic");
+  EXPECT_FALSE(g.spinning);
+  EXPECT_EQ(g.num_rings(), 0);
+  EXPECT_GT(g.rays_per_scan, 0);
+  EXPECT_LT(g.min_elevation_rad, g.max_elevation_rad);
+  try {
+    LidarModelFromName("livox");
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("os1-128"), std::string::npos) << e.what();
+  }
+}
+
 TEST(LidarModel, RingFromElevation) {
   const LidarModel m = VLP16();
   for (int r = 0; r < 16; ++r) {

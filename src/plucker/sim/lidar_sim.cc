@@ -33,6 +33,11 @@ VehicleTrajectory::VehicleTrajectory(const std::vector<Eigen::Vector2d>& route,
   if (route.size() < 2 || !(options.speed > 0)) {
     throw std::invalid_argument("VehicleTrajectory: need >= 2 route points and speed > 0");
   }
+  if (!(options.speed_variation >= 0.0 && options.speed_variation < options.speed) ||
+      !(options.speed_period > 0.0)) {
+    throw std::invalid_argument(
+        "VehicleTrajectory: need 0 <= speed_variation < speed and speed_period > 0");
+  }
   const std::size_t n = route.size();
   // For each corner k: the tangent points on the incoming / outgoing legs and the arc radius.
   std::vector<Eigen::Vector2d> enter(n), leave(n);
@@ -93,8 +98,14 @@ VehicleTrajectory::VehicleTrajectory(const std::vector<Eigen::Vector2d>& route,
   total_length_ = s;
 }
 
+double VehicleTrajectory::DistanceAt(double t) const {
+  if (options_.speed_variation == 0.0) return options_.speed * t;
+  const double w = 2.0 * kPi / options_.speed_period;
+  return options_.speed * t + options_.speed_variation / w * (1.0 - std::cos(w * t));
+}
+
 SE3d VehicleTrajectory::T_w_s(double t) const {
-  double s = std::fmod(options_.speed * t, total_length_);
+  double s = std::fmod(DistanceAt(t), total_length_);
   if (s < 0) s += total_length_;
   auto it = std::upper_bound(segments_.begin(), segments_.end(), s,
                              [](double v, const Segment& seg) { return v < seg.s0; });
@@ -120,14 +131,65 @@ SE3d VehicleTrajectory::T_w_s(double t) const {
 
 LidarSimulator::LidarSimulator(const LidarScene& scene, const LidarSimOptions& options)
     : scene_(scene), options_(options) {
-  if (options.elevation_rad.empty() || options.azimuth_steps < 8 || !(options.rate_hz > 0) ||
-      !(options.max_range > options.min_range) || !(options.range_noise_sigma >= 0)) {
+  const bool pattern_ok =
+      options.spinning
+          ? !options.elevation_rad.empty() && options.azimuth_steps >= 8
+          : options.rays_per_scan > 0 && options.max_elevation_rad > options.min_elevation_rad;
+  if (!pattern_ok || !(options.rate_hz > 0) || !(options.max_range > options.min_range) ||
+      !(options.range_noise_sigma >= 0)) {
     throw std::invalid_argument("LidarSimulator: invalid options");
   }
 }
 
+void LidarSimulator::CastRay(const SE3d& T, const Eigen::Vector3d& d_s, double noise,
+                             LidarScan* scan) const {
+  const Eigen::Vector3d d_w = T.RotationMatrix() * d_s;
+  const std::optional<RayHit> hit =
+      scene_.Cast(T.translation(), d_w, options_.min_range, options_.max_range);
+  if (!hit) return;
+  const double range = hit->distance + noise;
+  if (range < options_.min_range || range > options_.max_range) return;
+  scan->points.push_back(range * d_s);
+  scan->intensity.push_back(static_cast<float>(std::abs(hit->normal.dot(d_w))));
+}
+
+LidarScan LidarSimulator::NonSpinningScan(const VehicleTrajectory& trajectory, double t0,
+                                          std::size_t frame_index) const {
+  const int n = options_.rays_per_scan;
+  const double sweep = 1.0 / options_.rate_hz;
+  std::mt19937_64 rng(options_.seed * 0x9E3779B97F4A7C15ull ^
+                      (frame_index + 1) * 0xD1B54A32D192ED03ull);
+  // R2 sequence (Roberts 2018): x_k = frac(k / g), y_k = frac(k / g^2), g the plastic number.
+  constexpr double kG = 1.32471795724474602596;
+  constexpr double kA1 = 1.0 / kG, kA2 = 1.0 / (kG * kG);
+  const double lo = options_.min_elevation_rad, span = options_.max_elevation_rad - lo;
+  LidarScan scan;
+  scan.timestamp = t0;
+  scan.points.reserve(n);
+  const SE3d T_w_s0 = trajectory.T_w_s(t0);
+  for (int k = 0; k < n; ++k) {
+    const double kk = static_cast<double>(frame_index) * n + k;
+    const double az = 2.0 * kPi * (0.5 + kk * kA1 - std::floor(0.5 + kk * kA1));
+    const double el = lo + span * (0.5 + kk * kA2 - std::floor(0.5 + kk * kA2));
+    const Eigen::Vector3d d_s(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                              std::sin(el));
+    const double t = sweep * k / n;
+    const double noise =
+        options_.range_noise_sigma > 0 ? options_.range_noise_sigma * Gaussian(rng) : 0.0;
+    const std::size_t before = scan.size();
+    CastRay(options_.distortion ? trajectory.T_w_s(t0 + t) : T_w_s0, d_s, noise, &scan);
+    if (options_.distortion && scan.size() > before) scan.time.push_back(t);
+  }
+  return scan;
+}
+
 LidarScan LidarSimulator::Scan(const VehicleTrajectory& trajectory, double t0,
                                std::size_t frame_index, LidarSimStats* stats) const {
+  if (!options_.spinning) {
+    LidarScan scan = NonSpinningScan(trajectory, t0, frame_index);
+    if (stats) stats->rays = options_.rays_per_scan, stats->hits = scan.size();
+    return scan;
+  }
   const int A = options_.azimuth_steps;
   const int rings = static_cast<int>(options_.elevation_rad.size());
   const double sweep = 1.0 / options_.rate_hz;
@@ -155,20 +217,13 @@ LidarScan LidarSimulator::Scan(const VehicleTrajectory& trajectory, double t0,
     const double ce = std::cos(el), se = std::sin(el);
     for (int k = 0; k < A; ++k) {
       const Eigen::Vector3d d_s(ce * cos_az[k], ce * sin_az[k], se);
-      const SE3d& T = options_.distortion ? poses[k] : T_w_s0;
-      const Eigen::Matrix3d R = T.RotationMatrix();
-      const Eigen::Vector3d d_w = R * d_s;
       ++rays;
       const double noise = options_.range_noise_sigma > 0
                                ? options_.range_noise_sigma * Gaussian(rng)
                                : 0.0;  // drawn per ray so the stream does not depend on hits
-      const std::optional<RayHit> hit =
-          scene_.Cast(T.translation(), d_w, options_.min_range, options_.max_range);
-      if (!hit) continue;
-      const double range = hit->distance + noise;
-      if (range < options_.min_range || range > options_.max_range) continue;
-      scan.points.push_back(range * d_s);
-      scan.intensity.push_back(static_cast<float>(std::abs(hit->normal.dot(d_w))));
+      const std::size_t before = scan.size();
+      CastRay(options_.distortion ? poses[k] : T_w_s0, d_s, noise, &scan);
+      if (scan.size() == before) continue;
       scan.ring.push_back(r);
       if (options_.distortion) scan.time.push_back(sweep * k / A);
     }

@@ -21,6 +21,10 @@ struct VehicleTrajectoryOptions {
   double corner_radius = 12.0;        // m, turns are circular arcs of this radius (clamped to fit)
   double mount_height = 1.73;         // m, sensor above the ground (KITTI HDL-64E)
   double pitch_roll_amplitude = 0.0;  // rad, slow sinusoidal pitch/roll (0 = flat)
+  // Speed v(t) = speed + speed_variation * sin(2 pi t / speed_period): accelerations up to
+  // 2 pi speed_variation / speed_period (0: constant speed). Needs speed_variation < speed.
+  double speed_variation = 0.0;  // m/s
+  double speed_period = 4.0;     // s
 };
 
 // Constant-speed motion along a closed route with corners rounded into circular arcs. The pose
@@ -32,6 +36,7 @@ class VehicleTrajectory {
   SE3d T_w_s(double t) const;
   double loop_length() const { return total_length_; }  // metres
   double loop_duration() const { return total_length_ / options_.speed; }
+  double DistanceAt(double t) const;  // metres driven since t = 0
 
  private:
   struct Segment {  // a straight piece or an arc
@@ -58,6 +63,14 @@ struct LidarSimOptions {
   //       scan.time holds that relative time (the points are still expressed in the frame of
   //       the pose at the firing, as a real sensor does: deskewing must undo this).
   bool distortion = false;
+  // false: no rings, no spinning order (a Livox-like "generic" sensor): rays_per_scan rays, ray k
+  // fired at k / (rays_per_scan * rate_hz) in a direction of the R2 low-discrepancy sequence
+  // (azimuth over 360 deg, elevation uniform in [min_elevation_rad, max_elevation_rad]) that
+  // continues from scan to scan (non-repeating); elevation_rad and azimuth_steps are unused, the
+  // ring channel stays empty.
+  bool spinning = true;
+  double min_elevation_rad = 0.0, max_elevation_rad = 0.0;
+  int rays_per_scan = 0;
   std::uint64_t seed = 1;
 };
 
@@ -80,6 +93,10 @@ class LidarSimulator {
                  LidarSimStats* stats = nullptr) const;
 
  private:
+  // The ray of direction d_s (sensor frame) from pose T_w_s: appends the hit, if any.
+  void CastRay(const SE3d& T_w_s, const Eigen::Vector3d& d_s, double noise, LidarScan* scan) const;
+  LidarScan NonSpinningScan(const VehicleTrajectory& trajectory, double t0,
+                            std::size_t frame_index) const;
   const LidarScene& scene_;
   LidarSimOptions options_;
 };
