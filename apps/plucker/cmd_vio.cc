@@ -118,22 +118,12 @@ int Run(const VioArgs& a) {
   inputs.insert(inputs.end(), {a.bag.bag, a.config});
   RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot});
   VioInput in;
-  std::unique_ptr<VioStream> stream;
-  if (!a.bag.bag.empty()) {
-    stream = OpenVioBag(a.bag, ReadCameraCalibration(a.camera), &in);
-  } else {
-    in = a.euroc.empty() ? ReadVioFeatures(a.features, cfg.point_stride) : ReadVioEuroc(a.euroc);
-    if (!a.euroc.empty()) ReplaceVioCalibration(ReadCameraCalibration(a.camera, 0, 0, false), &in);
-    stream = MakeFolderVioStream(in);
-  }
+  const std::unique_ptr<VioStream> stream =
+      OpenVioInput(a.features, a.euroc, a.bag, a.camera, cfg.point_stride, &in);
   const std::size_t n = stream->frames();
   if (n < 3) throw io::IoError(in.source, "needs at least 3 frames, has " + std::to_string(n));
   for (const std::string& w : in.warnings) std::cerr << "plucker vio: warning: " << w << "\n";
-  if (!cfg.T_b_c.empty()) {  // --config T_b_c: the extrinsic given instead of the input's
-    const std::vector<double>& e = cfg.T_b_c;
-    in.calibration.T_b_c =
-        SE3d(Eigen::Quaterniond(e[6], e[3], e[4], e[5]), Eigen::Vector3d(e[0], e[1], e[2]));
-  }
+  UseConfigExtrinsic(cfg, &in.calibration.T_b_c);  // extrinsic.T_b_c instead of the input's
   const double read_ms = WallMs() - t_start;
   odometry::VisualInertialOdometry vio(cfg.odometry, in.calibration);
   VioReport report;
@@ -154,10 +144,9 @@ int Run(const VioArgs& a) {
     ++i;
   }
   progress.Break();
-  for (const std::string& w : stream->warnings()) {
+  for (const std::string& w : stream->warnings()) in.warnings.push_back(w);
+  for (const std::string& w : stream->warnings())
     std::cerr << "plucker vio: warning: " << w << "\n";
-    in.warnings.push_back(w);
-  }
   const double t_finish = ThreadCpuMs();
   const odometry::VioFrameResult end = vio.Finish();
   report.Add(end, {}, ThreadCpuMs() - t_finish);

@@ -115,8 +115,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "features folders: the point tracks whose id is a multiple of this (as --point-stride)",
           AtLeast(1), PLUCKER_OPTION_MEMBER(point_stride));
   t.Value("checks.max_imu_only_share", "",
-          "exit code 3 when more than this share of the frames had no visual update", Range{0.0, 1.0},
-          PLUCKER_OPTION_MEMBER(max_imu_only_share));
+          "exit code 3 when more than this share of the frames had no visual update",
+          Range{0.0, 1.0}, PLUCKER_OPTION_MEMBER(max_imu_only_share));
   return t.Take();
 }
 
@@ -171,6 +171,12 @@ const OptionsTable<VioConfig>& VioOptions() {
 }
 
 void ApplyVioConfig(const std::string& path, VioConfig* config) { VioOptions().Load(path, config); }
+
+void UseConfigExtrinsic(const VioConfig& config, SE3d* T_b_c) {
+  const std::vector<double>& e = config.T_b_c;
+  if (e.empty()) return;
+  *T_b_c = SE3d(Eigen::Quaterniond(e[6], e[3], e[4], e[5]), Eigen::Vector3d(e[0], e[1], e[2]));
+}
 
 void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* config) {
   VioOptions().Apply(text, name, config);

@@ -31,6 +31,8 @@ const OptionsTable<VioConfig>& VioOptions();
 // wrong types, values out of range and invalid YAML are std::runtime_error naming the file and
 // the key.
 void ApplyVioConfig(const std::string& path, VioConfig* config);
+// *T_b_c = the key extrinsic.T_b_c when it is set (else unchanged).
+void UseConfigExtrinsic(const VioConfig& config, SE3d* T_b_c);
 // The same for YAML text (`name` stands for the file in the messages, e.g. the Python options),
 // with CheckVioConfig after it.
 void ApplyVioConfigYaml(const std::string& text, const std::string& name, VioConfig* config);

@@ -145,5 +145,14 @@ void ReplaceVioCalibration(const CameraCalibration& calib, VioInput* in) {
   }
 }
 
+std::unique_ptr<VioStream> OpenVioInput(const std::string& features, const std::string& euroc,
+                                        const VioBagSource& bag, const CameraFlags& camera,
+                                        int point_stride, VioInput* in) {
+  if (!bag.bag.empty()) return OpenVioBag(bag, ReadCameraCalibration(camera), in);
+  *in = euroc.empty() ? ReadVioFeatures(features, point_stride) : ReadVioEuroc(euroc);
+  if (!euroc.empty()) ReplaceVioCalibration(ReadCameraCalibration(camera, 0, 0, false), in);
+  return MakeFolderVioStream(*in);
+}
+
 }  // namespace app
 }  // namespace plucker

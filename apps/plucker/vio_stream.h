@@ -58,5 +58,12 @@ void CheckVioSources(const std::string& features, const std::string& euroc, cons
 // and the IMU coverage is checked again (frames no longer covered are skipped and named).
 void ReplaceVioCalibration(const CameraCalibration& calib, VioInput* in);
 
+// The input the flags name: a bag (OpenVioBag), else a features folder (tracks whose id is a
+// multiple of point_stride) or a EuRoC folder with the calibration flags applied
+// (ReplaceVioCalibration), streamed (MakeFolderVioStream over *in).
+std::unique_ptr<VioStream> OpenVioInput(const std::string& features, const std::string& euroc,
+                                        const VioBagSource& bag, const CameraFlags& camera,
+                                        int point_stride, VioInput* in);
+
 }  // namespace app
 }  // namespace plucker
