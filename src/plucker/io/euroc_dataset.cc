@@ -1,4 +1,5 @@
 #include "plucker/io/euroc_dataset.h"
+#include "plucker/geometry/median.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -57,9 +58,7 @@ void WarnDroppedFrames(const std::vector<EurocFrame>& frames, double factor,
   if (frames.size() < 3) return;
   std::vector<double> steps;
   for (std::size_t i = 1; i < frames.size(); ++i) steps.push_back(frames[i].t - frames[i - 1].t);
-  std::vector<double> sorted = steps;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double median = UpperMedian(steps);
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (steps[i] <= factor * median) continue;
     const long missing = std::lround(steps[i] / median) - 1;
