@@ -204,6 +204,10 @@ expect vo-progress-log-no-cr 0 "^0 1$" -- bash -c "echo \$(grep -c \$'\\r' '$T/v
   \$(grep -c 'plucker vo: frame 30/30' '$T/vo_prog.err')"
 # --out-online: the poses as each frame's call returned them (nan rows: no pose when the frame came,
 # e.g. during the new start's search); --out (the refined view) is the same with it or without.
+expect vo-features-draw nonzero "--draw needs --images" -- \
+  "$PLUCKER" vo --features "$T/cam" --out "$T/vo_d.txt" --draw "$T/vo_d"
+expect vio-features-draw nonzero "--draw needs images" -- \
+  "$PLUCKER" vio --features "$T/cam" --out "$T/vio_d.txt" --draw "$T/vio_d"
 expect vo-out-online 0 "^30 nan" -- bash -c "'$PLUCKER' vo --features '$T/cam_gap' --quiet \
   --out '$T/vo_gap2.txt' --out-online '$T/vo_gap_on.txt' --config '$T/vo_gap5.yaml' &&
   cmp '$T/vo_gap.txt' '$T/vo_gap2.txt' && echo \$(wc -l < '$T/vo_gap_on.txt') \$(grep -m1 -o nan '$T/vo_gap_on.txt')"
@@ -592,6 +596,11 @@ if [ -d "$EUROC/mav0" ]; then
   expect vio-euroc 0 "20 frames, static initialisation" -- \
     "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/veuroc.tum" --json "$T/veuroc.json" --no-lines
   expect vio-euroc-rows 0 "^20$" -- bash -c "grep -vc '^#' '$T/veuroc.tum'"
+  # --draw: one overlay per frame with a pose (the static start poses all 20).
+  expect vio-euroc-draw 0 "" -- "$PLUCKER" vio --euroc "$T/veuroc" --out "$T/vdraw.tum" \
+    --no-lines --quiet --draw "$T/vdraw"
+  expect vio-euroc-draw-count 0 "^20$" -- bash -c "ls '$T/vdraw'/*.png | wc -l"
+  expect vio-euroc-draw-same-poses 0 "" -- cmp "$T/veuroc.tum" "$T/vdraw.tum"
   # On the dataset's clock: each stamp is the image's data.csv nanoseconds as decimal seconds.
   expect vio-euroc-dataset-clock 0 "" -- bash -c "cmp <(grep -v '^#' '$T/veuroc.tum' | cut -d' ' -f1) \
     <(tail -n +2 '$V/cam0/data.csv' | cut -d, -f1 | sed -E 's/^([0-9]+)([0-9]{9})$/\\1.\\2/')"

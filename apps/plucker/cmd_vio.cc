@@ -23,6 +23,7 @@
 #include "run_guarded.h"
 #include "stage_clock.h"
 #include "vio_config.h"
+#include "vio_draw.h"
 #include "vio_input.h"
 #include "vio_output.h"
 #include "vio_stream.h"
@@ -32,7 +33,7 @@ namespace app {
 namespace {
 
 struct VioArgs {
-  std::string features, euroc, out, out_online, json, plot, config;
+  std::string features, euroc, out, out_online, json, plot, draw, config;
   VioBagSource bag;
   CameraFlags camera;
   bool no_lines = false, quiet = false, estimate_extrinsic = false, estimate_time_offset = false;
@@ -43,7 +44,7 @@ struct VioArgs {
 // One frame through the odometry, timed; EuRoC: the image read here (unreadable: skipped).
 bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdometry* vio,
           VioReport* report, std::vector<odometry::VioFrameRecord>* online,
-          std::vector<std::string>* warnings, FrameProgress* progress) {
+          std::vector<std::string>* warnings, FrameProgress* progress, VioOverlayWriter* draw) {
   BasicStageClock<window::WindowStage, window::kNumWindowStages> window_ms;
   BasicStageClock<vision::FrontendStage, vision::kNumFrontendStages> frontend_ms;
   odometry::VioFrameResult r;
@@ -58,8 +59,11 @@ bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdome
       const std::string blank = io::BlankImageProblem(image);  // nothing to track: skipped
       if (!blank.empty()) throw io::IoError(item.name, blank);
       frontend_total = ThreadCpuMs() - t0;  // reading the image counts to the front end
+      if (draw) draw->Hold(image.clone());
       r = vio->AddImage(item.t, image, frontend_ms.Observer(), window_ms.Observer());
+      if (draw) draw->Release(r);
     } catch (const std::exception& e) {
+      if (draw) draw->Refused();
       const bool named = dynamic_cast<const io::IoError*>(&e) != nullptr;  // names the file
       warnings->push_back("skipped " + (named ? "" : item.name + ": ") + e.what());
       ++report->skipped_images;
@@ -89,34 +93,13 @@ bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdome
   return true;
 }
 
-void PrintSummary(const VioArgs& a, const VioReport& report,
-                  const odometry::VisualInertialOdometry& vio, const VioInput& in,
-                  double duration) {
-  const odometry::VioInitialization& init = vio.initialization();
-  const double cpu = report.cpu_ms;
-  std::cerr << "plucker vio: " << report.frames << " frames, " << init.method
-            << " initialisation on frames " << init.first << "-" << init.second << ", "
-            << report.keyframes << " keyframes, " << report.imu_only << " IMU-only, "
-            << report.skipped + report.skipped_images << " skipped; " << std::fixed
-            << std::setprecision(2) << cpu / 1e3 << " s CPU for " << duration << " s of data ("
-            << (cpu > 0 ? 1e3 * duration / cpu : 0.0) << "x real time); wrote " << a.out << "\n";
-  if (!a.cfg.odometry.estimate_extrinsic) return;
-  const SE3d T = vio.ExtrinsicEstimate();
-  const SE3d& given = in.calibration.T_b_c;
-  std::cerr << "plucker vio: extrinsic " << (vio.ExtrinsicFree() ? "estimated" : "held")
-            << ": T_b_c moved " << std::setprecision(3)
-            << LogSO3<double>(given.rotation().conjugate() * T.rotation()).norm() * 180.0 / M_PI
-            << " deg, " << std::setprecision(4) << (T.translation() - given.translation()).norm()
-            << " m from the given one\n";
-}
-
 int Run(const VioArgs& a) {
   SetUpProcess(ImagePipelineSetup(), cv::setNumThreads);  // as `plucker vo`
   const double t_start = WallMs();
   const VioConfig& cfg = a.cfg;
   std::vector<std::string> inputs = CameraFlagFiles(a.camera);
   inputs.insert(inputs.end(), {a.bag.bag, a.config});
-  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot});
+  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot, a.draw});
   VioInput in;
   const std::unique_ptr<VioStream> stream =
       OpenVioInput(a.features, a.euroc, a.bag, a.camera, cfg.point_stride, &in);
@@ -126,6 +109,8 @@ int Run(const VioArgs& a) {
   UseConfigExtrinsic(cfg, &in.calibration.T_b_c);  // extrinsic.T_b_c instead of the input's
   const double read_ms = WallMs() - t_start;
   odometry::VisualInertialOdometry vio(cfg.odometry, in.calibration);
+  std::unique_ptr<VioOverlayWriter> draw;
+  if (!a.draw.empty()) draw = std::make_unique<VioOverlayWriter>(a.draw, &vio);
   VioReport report;
   report.extrinsic_estimated = cfg.odometry.estimate_extrinsic;
   std::vector<odometry::VioFrameRecord> online;
@@ -136,7 +121,8 @@ int Run(const VioArgs& a) {
       vio.AddImu(item.imu);
       continue;
     }
-    if (Feed(in, item, &vio, &report, &online, &in.warnings, &progress) && progress.Due(i)) {
+    if (Feed(in, item, &vio, &report, &online, &in.warnings, &progress, draw.get()) &&
+        progress.Due(i)) {
       progress.Show(i, "keyframes " + std::to_string(report.keyframes) + "  points " +
                            std::to_string(report.window_points) + "  lines " +
                            std::to_string(report.window_lines));
@@ -167,7 +153,7 @@ int Run(const VioArgs& a) {
     out["summary"]["max_imu_only_share"] = cfg.max_imu_only_share;
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
-  if (!a.quiet) PrintSummary(a, report, vio, in, duration);
+  if (!a.quiet) PrintVioSummary(a.out, cfg.odometry.estimate_extrinsic, report, vio, in, duration);
   if (report.skipped > 0) {
     std::cerr << "plucker vio: warning: " << report.skipped
               << " frames skipped (no IMU coverage or no finite pose; listed in the JSON)\n";
@@ -204,6 +190,9 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_option("--plot", args->plot,
                   "SVG: top view, position error, height and IMU biases over time (against the "
                   "ground truth if present)");
+  cmd->add_option("--draw", args->draw,
+                  "Folder: one PNG per frame with a pose, tracked points and line segments over "
+                  "the undistorted image (the palette of `plucker vo --draw`; --euroc or --bag)");
   cmd->add_option("--config", args->config,
                   "YAML options (`plucker config vio` prints them all with their ranges; "
                   "docs/vio.md); a flag given on the command line overrides its key")
@@ -236,6 +225,8 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->callback([args, exit_code, flags]() {
     RunGuarded("vio", exit_code, [&] {
       CheckVioSources(args->features, args->euroc, args->bag, args->camera);
+      if (!args->features.empty() && !args->draw.empty())
+        throw std::invalid_argument("--draw needs images (--euroc or --bag)");
       // The configuration file, then what the command line gives explicitly.
       if (!args->config.empty()) ApplyVioConfig(args->config, &args->cfg);
       ApplyOptionFlags(VioOptions(), flags, &args->cfg);

@@ -2,14 +2,12 @@
 
 namespace plucker {
 namespace app {
-namespace {
-
-nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-}  // namespace
+nlohmann::json Vec3Json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json InertialStateJson(const sensor::BodyState& s) {
-  return {{"v_w", Vec(s.v_w)}, {"gyro_bias", Vec(s.bias.gyro)}, {"accel_bias", Vec(s.bias.accel)}};
+  return {{"v_w", Vec3Json(s.v_w)},
+          {"gyro_bias", Vec3Json(s.bias.gyro)},
+          {"accel_bias", Vec3Json(s.bias.accel)}};
 }
 
 nlohmann::json WindowFrameJson(const window::WindowFrameResult& r, bool inertial) {

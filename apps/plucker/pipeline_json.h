@@ -20,9 +20,12 @@ inline constexpr std::array<const char*, window::kNumWindowStages> kWindowStageN
 inline constexpr const char* kReadStageName = "read";    // reading (and decoding) the input
 inline constexpr const char* kOtherStageName = "other";  // the rest of a call
 
-// The window's statistics of one frame (window::WindowFrameResult), every field, the same keys in both
-// pipelines; inertial: with the IMU terms (imu_chi2 and the state: velocity, biases).
+// The window's statistics of one frame (window::WindowFrameResult), every field, the same keys in
+// both pipelines; inertial: with the IMU terms (imu_chi2 and the state: velocity, biases).
 nlohmann::json WindowFrameJson(const window::WindowFrameResult& r, bool inertial);
+
+// [x, y, z]
+nlohmann::json Vec3Json(const Eigen::Vector3d& v);
 
 // {"v_w": [x, y, z], "gyro_bias": [...], "accel_bias": [...]}
 nlohmann::json InertialStateJson(const sensor::BodyState& s);

@@ -16,8 +16,6 @@ namespace plucker {
 namespace app {
 namespace {
 
-nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 // [tx, ty, tz, qx, qy, qz, qw]
 nlohmann::json PoseJson(const SE3d& T) {
   const Eigen::Quaterniond& q = T.rotation();
@@ -43,8 +41,8 @@ nlohmann::json EventJson(const odometry::VioInitEvent& e) {
   }
   if (e.still) {
     j["still_seconds"] = e.still_seconds;
-    j["gyro_bias"] = Vec(e.gyro_bias);
-    j["up_b"] = Vec(e.up_b);
+    j["gyro_bias"] = Vec3Json(e.gyro_bias);
+    j["up_b"] = Vec3Json(e.up_b);
   }
   return j;
 }
@@ -177,6 +175,27 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
   // Kalibr's convention: t_imu = t_cam + offset (IMU stamps 8 ms late read +0.008).
   out["summary"]["camera_imu_time_offset_s"] = vio.TimeOffsetEstimate();
   return out;
+}
+
+void PrintVioSummary(const std::string& out, bool estimate_extrinsic, const VioReport& report,
+                     const odometry::VisualInertialOdometry& vio, const VioInput& in,
+                     double duration) {
+  const odometry::VioInitialization& init = vio.initialization();
+  const double cpu = report.cpu_ms;
+  std::cerr << "plucker vio: " << report.frames << " frames, " << init.method
+            << " initialisation on frames " << init.first << "-" << init.second << ", "
+            << report.keyframes << " keyframes, " << report.imu_only << " IMU-only, "
+            << report.skipped + report.skipped_images << " skipped; " << std::fixed
+            << std::setprecision(2) << cpu / 1e3 << " s CPU for " << duration << " s of data ("
+            << (cpu > 0 ? 1e3 * duration / cpu : 0.0) << "x real time); wrote " << out << "\n";
+  if (!estimate_extrinsic) return;
+  const SE3d T = vio.ExtrinsicEstimate();
+  const SE3d& given = in.calibration.T_b_c;
+  std::cerr << "plucker vio: extrinsic " << (vio.ExtrinsicFree() ? "estimated" : "held")
+            << ": T_b_c moved " << std::setprecision(3)
+            << LogSO3<double>(given.rotation().conjugate() * T.rotation()).norm() * 180.0 / M_PI
+            << " deg, " << std::setprecision(4) << (T.translation() - given.translation()).norm()
+            << " m from the given one\n";
 }
 
 int WarnImuOnly(const odometry::VioStatistics& stats, double max_share) {

@@ -44,6 +44,12 @@ class VioReport {
   std::vector<nlohmann::json> frontend_;
 };
 
+// The run's summary on stderr (frames, start, keyframes, CPU against the data's duration; the
+// extrinsic's change when estimated).
+void PrintVioSummary(const std::string& out, bool estimate_extrinsic, const VioReport& report,
+                     const odometry::VisualInertialOdometry& vio, const VioInput& in,
+                     double duration);
+
 // Exit code of `plucker vio` when more than max_imu_only_share of the window's frames had no
 // visual update (docs/cli.md).
 constexpr int kExitImuOnly = 3;

@@ -40,6 +40,17 @@ cv::Mat DrawVoFrame(const cv::Mat& gray, const PinholeIntrinsics& K,
   return canvas;
 }
 
+void WriteFrameOverlay(const std::string& dir, const cv::Mat& gray,
+                       const vision::Undistorter* undistorter, const PinholeIntrinsics& K,
+                       const window::FrameInput& frame, int i, const SE3d& T_w_c,
+                       const window::SlidingWindowEstimator& map) {
+  const cv::Mat ideal = undistorter ? undistorter->Undistort(gray) : gray;
+  const cv::Mat canvas = DrawVoFrame(ideal, K, frame, T_w_c, map.Points(), map.Lines());
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", i);
+  overlay::WriteImage(dir + "/" + name, canvas);
+}
+
 void WriteVoOverlay(const std::string& dir, const std::string& image,
                     const vision::Undistorter* undistorter, const PinholeIntrinsics& K,
                     const window::FrameInput& frame, int i, const SE3d& T_w_c,
@@ -50,11 +61,7 @@ void WriteVoOverlay(const std::string& dir, const std::string& image,
   } catch (const io::IoError&) {
     return;  // skipped image: already warned about
   }
-  if (undistorter) gray = undistorter->Undistort(gray);
-  const cv::Mat canvas = DrawVoFrame(gray, K, frame, T_w_c, map.Points(), map.Lines());
-  char name[32];
-  std::snprintf(name, sizeof(name), "%06d.png", i);
-  overlay::WriteImage(dir + "/" + name, canvas);
+  WriteFrameOverlay(dir, gray, undistorter, K, frame, i, T_w_c, map);
 }
 
 }  // namespace app

@@ -37,7 +37,7 @@ void CheckVoSources(const std::string& features, const VoImageSource& im, const 
   }
   if (!features.empty() && HasCameraFlag(im.camera))
     throw std::invalid_argument("--sensor, --calib apply to --images and --bag");
-  if (!im.bag.bag.empty() && !draw.empty())
+  if (im.images.empty() && !draw.empty())
     throw std::invalid_argument("--draw needs --images (it reads the image files)");
 }
 

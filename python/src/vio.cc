@@ -82,17 +82,20 @@ class PyVisualInertialOdometry {
       throw py::value_error("VisualInertialOdometry: pixel_sigma must be positive");
     calibration.gravity_magnitude = gravity_magnitude;
     calibration.pixel_sigma = pixel_sigma;
-    if (options.contains("point_stride"))
-      throw py::value_error(
-          "VisualInertialOdometry: point_stride selects the tracks of a features folder; give "
-          "add_frame the points to use");
     app::VioConfig cfg;
     if (!config_path.is_none()) app::ApplyVioConfig(config_path.cast<std::string>(), &cfg);
     try {
-      app::ApplyVioConfigYaml(OptionsYaml(options, kWho), "VisualInertialOdometry options", &cfg);
+      if (!options.contains("point_stride"))  // the flat key: refused below, not as renamed
+        app::ApplyVioConfigYaml(OptionsYaml(options, kWho), "VisualInertialOdometry options",
+                                &cfg);
     } catch (const std::exception& e) {
       throw py::value_error(e.what());
     }
+    // The config file's or the options' input.point_stride would be ignored: refused.
+    if (options.contains("point_stride") || cfg.point_stride != 1)
+      throw py::value_error(
+          "VisualInertialOdometry: input.point_stride selects the tracks of a features folder "
+          "(plucker vio --features); give add_frame the points to use");
     if (!cfg.T_b_c.empty()) {  // the config's T_b_c replaces the one given (as in plucker vio)
       const std::vector<double>& e = cfg.T_b_c;
       calibration.T_b_c =

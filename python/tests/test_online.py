@@ -191,6 +191,8 @@ def test_vio_options_are_the_config_keys():
     # A features-folder reader option: refused, add_frame is given the points to use.
     with pytest.raises(ValueError, match="point_stride selects the tracks"):
         plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, point_stride=2)
+    with pytest.raises(ValueError, match="point_stride selects the tracks"):
+        plucker.VisualInertialOdometry(CAMERA, np.eye(4), IMU, input={"point_stride": 2})
     numpy_ints = dict(CAMERA, width=np.int64(640), height=np.int32(480))
     plucker.VisualInertialOdometry(numpy_ints, np.eye(4), IMU)
     with pytest.raises(TypeError, match=r"camera\['width'\]: expected an integer"):

@@ -32,6 +32,7 @@
 
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/odometry/frame_observer.h"
 #include "plucker/odometry/monocular_initializer.h"
 #include "plucker/sensor/camera.h"
 #include "plucker/vision/image_frontend.h"
@@ -115,10 +116,8 @@ struct MonocularSummary {
 };
 
 // Called for each frame once its pose of the refined view is set (after its tracking, or at a
-// start for the frames up to b), with the map as it is then (e.g. to draw the landmarks).
-using MonocularFrameObserver =
-    std::function<void(int frame, const window::FrameInput& input, const SE3d& T_w_c,
-                       const window::SlidingWindowEstimator& map)>;
+// start for the frames up to b), with the map as it is then (frame_observer.h).
+using MonocularFrameObserver = FrameObserver;
 
 class MonocularOdometry {
  public:

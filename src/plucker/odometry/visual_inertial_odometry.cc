@@ -149,6 +149,7 @@ struct VisualInertialOdometry::Impl {
   bool stretch_open = false;                         // the newest IMU-only stretch goes on
   std::unique_ptr<vision::Undistorter> undistorter;  // AddImage
   std::unique_ptr<vision::ImageFrontend> frontend;
+  FrameObserver frame_observer;
 
   Impl(const VisualInertialOdometryOptions& options, const VisualInertialCalibration& c)
       : o(options), calib(c), initializer(options, c) {}
@@ -159,7 +160,16 @@ struct VisualInertialOdometry::Impl {
   void StartWindow();
   VioFrameRecord Track(int index, const window::FrameInput& frame,
                        const window::StageObserver& observer);
+  void Observe(int index, const window::FrameInput& frame) const;
 };
+
+// The frame observer on a frame with a pose in the window's map.
+void VisualInertialOdometry::Impl::Observe(int index, const window::FrameInput& frame) const {
+  const std::optional<SE3d>& T_w_b = trajectory[index].T_w_b;
+  if (frame_observer && estimator && T_w_b) {
+    frame_observer(index, frame, *T_w_b * estimator->ExtrinsicEstimate(), *estimator);
+  }
+}
 
 // The window's zero-motion flag: no image motion against the previous frame (the first frame
 // takes the second's); the flags feed the static test until the start.
@@ -338,8 +348,11 @@ VioFrameResult VisualInertialOdometry::Impl::Initialize(bool end,
     return result;
   }
   const int second = initializer.start().second;
-  for (int f = second + 1; f < static_cast<int>(frames.size()); ++f)
+  for (int f = 0; f <= second && f < static_cast<int>(frames.size()); ++f) Observe(f, frames[f]);
+  for (int f = second + 1; f < static_cast<int>(frames.size()); ++f) {
     trajectory[f] = Track(f, frames[f], observer);
+    Observe(f, frames[f]);
+  }
   for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
     result.settled.push_back(trajectory[f]);
     result.imu_only_run = Count(trajectory[f]);
@@ -433,6 +446,7 @@ VioFrameResult VisualInertialOdometry::AddFrame(const window::FrameInput& input,
   } else if (m.estimator) {
     const VioFrameRecord r = m.Track(index, frame, observer);
     m.trajectory[index] = r;
+    m.Observe(index, frame);
     m.trajectory[index].window.reset();
     result.frame = index;
     result.time = frame.time;
@@ -465,6 +479,14 @@ VioFrameResult VisualInertialOdometry::Finish(const window::StageObserver& obser
   if (m.estimator || m.failed || m.frames.empty()) return result;
   return m.Initialize(true, observer);
 }
+
+void VisualInertialOdometry::SetFrameObserver(FrameObserver observer) {
+  impl_->frame_observer = std::move(observer);
+}
+const vision::Undistorter* VisualInertialOdometry::undistorter() const {
+  return impl_->undistorter.get();
+}
+const PinholeIntrinsics& VisualInertialOdometry::K() const { return impl_->calib.camera.K; }
 
 bool VisualInertialOdometry::initialized() const { return impl_->estimator != nullptr; }
 const VioInitialization& VisualInertialOdometry::initialization() const { return impl_->init_info; }

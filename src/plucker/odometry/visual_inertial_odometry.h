@@ -34,9 +34,11 @@
 #include <opencv2/core.hpp>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/odometry/frame_observer.h"
 #include "plucker/sensor/camera.h"
 #include "plucker/sensor/imu.h"
 #include "plucker/vision/image_frontend.h"
+#include "plucker/vision/undistort.h"
 #include "plucker/window/sliding_window_estimator.h"
 
 namespace plucker {
@@ -221,8 +223,16 @@ class VisualInertialOdometry {
   // the frames it settles are returned (status kFailed with a message when it cannot start).
   VioFrameResult Finish(const window::StageObserver& observer = {});
 
+  // Called for each frame once the window has its pose (at the start for the buffered frames
+  // with a pose, then for each frame the window runs on), with T_w_c = T_w_b T_b_c.
+  void SetFrameObserver(FrameObserver observer);
+
   bool initialized() const;
   const VioInitialization& initialization() const;
+  // AddImage's undistortion into the pinhole of the observations (nullptr before the first
+  // image) and that pinhole (calibration.camera.K for AddFrame).
+  const vision::Undistorter* undistorter() const;
+  const PinholeIntrinsics& K() const;
   // Every frame given so far, with the refined (backfilled) poses; frames still buffered for
   // the initialisation have none.
   const std::vector<VioFrameRecord>& RefinedTrajectory() const;

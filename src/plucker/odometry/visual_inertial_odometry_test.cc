@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "plucker/eval/ate.h"
 #include "plucker/sim/camera_observations.h"
@@ -116,6 +117,39 @@ TEST(VisualInertialOdometry, DynamicStartOnAMovingRoom) {
   for (int i = start; i < 60; ++i) EXPECT_TRUE(run.results[i].T_w_b) << i;
   for (const VioFrameRecord& r : run.refined) EXPECT_TRUE(r.T_w_b) << r.frame;  // backfilled
   EXPECT_LT(AtePositionYaw(run, in), 0.15);
+}
+
+// The frame observer (vio --draw) sees every frame with a pose once, in order after the start,
+// with the pose of the refined trajectory as the camera's and the frame's own observations.
+TEST(VisualInertialOdometry, FrameObserverSeesEveryPosedFrameOnce) {
+  const Input in = Simulate(60);
+  VisualInertialOdometry vio(FastOptions(), in.calib);
+  std::vector<int> seen;
+  std::map<int, SE3d> T_w_c_seen;
+  vio.SetFrameObserver([&](int i, const window::FrameInput& frame, const SE3d& T_w_c,
+                           const window::SlidingWindowEstimator& map) {
+    seen.push_back(i);
+    T_w_c_seen[i] = T_w_c;
+    EXPECT_EQ(frame.time, in.frames[i].time) << i;
+    EXPECT_EQ(frame.points.size(), in.frames[i].points.size()) << i;
+    EXPECT_FALSE(map.Points().empty()) << i;
+  });
+  std::size_t k = 0;
+  for (const window::FrameInput& frame : in.frames) {
+    while (k < in.imu.size() && (k == 0 || in.imu[k - 1].t < frame.time)) vio.AddImu(in.imu[k++]);
+    vio.AddFrame(frame);
+  }
+  vio.Finish();
+  std::vector<int> posed;
+  for (const VioFrameRecord& r : vio.RefinedTrajectory())
+    if (r.T_w_b) posed.push_back(r.frame);
+  ASSERT_EQ(posed.size(), in.frames.size());
+  EXPECT_EQ(seen, posed);  // once each, in order
+  for (const VioFrameRecord& r : vio.RefinedTrajectory()) {
+    const SE3d T_w_c = *r.T_w_b * in.calib.T_b_c;
+    EXPECT_TRUE(T_w_c_seen.at(r.frame).translation().isApprox(T_w_c.translation(), 1e-12))
+        << r.frame;
+  }
 }
 
 // The result of frame k depends on the inputs up to frame k only: the IMU given all at once,
