@@ -29,6 +29,7 @@
 #include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
+#include "vio_input.h"
 #include "vo_config.h"
 #include "vo_draw.h"
 #include "vo_image_input.h"
@@ -69,7 +70,7 @@ int Run(const VoArgs& a, VoConfig config) {
     vo = std::make_unique<odometry::MonocularOdometry>(stream->camera(), config);
   } else {
     const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
-    frames = VoFeatureFrames(seq, a.point_stride);
+    frames = FeatureFrames(seq, a.point_stride);
     config.window.point_sigma_px = config.window.line_sigma_px =
         std::max(seq.observation_model.pixel_sigma, 0.5);
     vo = std::make_unique<odometry::MonocularOdometry>(seq.rig.K, config);

@@ -9,6 +9,15 @@
 namespace plucker {
 namespace app {
 
+std::vector<window::FrameInput> FeatureFrames(const sensor::CameraImuSequence& seq, int stride) {
+  std::vector<window::FrameInput> frames(seq.frame_times.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = seq.frame_times[i];
+  for (const auto& p : seq.points)
+    if (p.point_id >= 0 && p.point_id % stride == 0) frames[p.frame].points.push_back(p);
+  for (const auto& s : seq.segments) frames[s.frame].segments.push_back(s);
+  return frames;
+}
+
 VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
   const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(dir);
   VioInput in;
@@ -22,11 +31,7 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
   in.calibration.pixel_sigma = seq.observation_model.pixel_sigma;
   in.imu = seq.imu;
   if (in.imu.empty()) throw io::IoError(dir + "/imu.txt", "no IMU samples");
-  std::vector<window::FrameInput> frames(seq.frame_times.size());
-  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = seq.frame_times[i];
-  for (const auto& p : seq.points)
-    if (p.point_id >= 0 && p.point_id % point_stride == 0) frames[p.frame].points.push_back(p);
-  for (const auto& s : seq.segments) frames[s.frame].segments.push_back(s);
+  std::vector<window::FrameInput> frames = FeatureFrames(seq, point_stride);
   // The IMU's coverage of each frame (gaps, before the first or after the last sample): frames
   // not covered are skipped and named (the EuRoC reader's check; `line` holds the frame number).
   std::vector<io::EurocFrame> covered;

@@ -12,6 +12,7 @@
 #include "plucker/geometry/se3.h"
 #include "plucker/io/euroc_dataset.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
+#include "plucker/sensor/camera_imu_sequence.h"
 #include "plucker/sensor/imu.h"
 
 namespace plucker {
@@ -31,6 +32,10 @@ struct VioInput {
   // it); the TUM files are written on that clock. Features folders: none (their own times).
   std::optional<std::int64_t> clock_origin_ns;
 };
+
+// The frames of a features folder's sequence (docs/sim-format.md): the point tracks whose id is
+// >= 0 and a multiple of `stride` (outliers, id -1, left out), every segment.
+std::vector<window::FrameInput> FeatureFrames(const sensor::CameraImuSequence& seq, int stride);
 
 // Features folder; point tracks kept when id % point_stride == 0. Throws io::IoError.
 VioInput ReadVioFeatures(const std::string& dir, int point_stride);

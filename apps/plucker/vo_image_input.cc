@@ -19,15 +19,6 @@ cv::Mat Checked(cv::Mat image, const std::string& name, const sensor::Camera& ca
 
 }  // namespace
 
-std::vector<window::FrameInput> VoFeatureFrames(const sensor::CameraImuSequence& seq, int stride) {
-  std::vector<window::FrameInput> frames(seq.frame_times.size());
-  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = seq.frame_times[i];
-  for (const auto& p : seq.points)
-    if (p.point_id >= 0 && p.point_id % stride == 0) frames[p.frame].points.push_back(p);
-  for (const auto& s : seq.segments) frames[s.frame].segments.push_back(s);
-  return frames;
-}
-
 void CheckVoSources(const std::string& features, const VoImageSource& im, const std::string& draw) {
   if (!features.empty() + !im.images.empty() + !im.bag.bag.empty() != 1)
     throw std::invalid_argument("give --features DIR, --images DIR or --bag FILE");

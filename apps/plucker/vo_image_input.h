@@ -19,9 +19,6 @@
 namespace plucker {
 namespace app {
 
-// The frames of a features folder's sequence; point tracks kept when id % stride == 0.
-std::vector<window::FrameInput> VoFeatureFrames(const sensor::CameraImuSequence& seq, int stride);
-
 struct VoImageSource {
   std::string images;           // a folder of images, or
   BagFlags bag;                 // or a bag's image topic

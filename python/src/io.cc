@@ -12,6 +12,7 @@
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
 #include "plucker/io/trajectory_io.h"
+#include "vio_input.h"
 
 namespace plucker {
 namespace python {
@@ -93,6 +94,54 @@ py::dict EurocDict(io::EurocDataset&& e) {
   d["ground_truth_T_w_b"] = PoseMatrices(gt_poses);
   d["skipped"] = io::ToStrings(e.skipped);
   d["warnings"] = e.warnings;
+  return d;
+}
+
+// A features folder as `plucker vio --features` reads it (app::ReadVioFeatures): the rig, the
+// IMU, and per frame the kept observations as add_frame takes them.
+py::dict FeaturesDict(const std::string& dir, int point_stride) {
+  if (point_stride < 1) throw py::value_error("read_features: point_stride must be >= 1");
+  const app::VioInput in = app::ReadVioFeatures(dir, point_stride);
+  const odometry::VisualInertialCalibration& c = in.calibration;
+  py::dict camera;
+  camera["K"] =
+      ToVector(Eigen::Vector4d(c.camera.K.fx, c.camera.K.fy, c.camera.K.cx, c.camera.K.cy));
+  camera["width"] = c.camera.width;
+  camera["height"] = c.camera.height;
+  camera["T_b_c"] = PoseMatrix(c.T_b_c);
+  camera["T_b_c_tq"] = PoseTq(c.T_b_c);
+  Eigen::MatrixXd imu(static_cast<Eigen::Index>(in.imu.size()), 7);
+  for (std::size_t i = 0; i < in.imu.size(); ++i) {
+    const sensor::ImuSample& s = in.imu[i];
+    imu.row(static_cast<Eigen::Index>(i)) << s.t, s.gyro.transpose(), s.accel.transpose();
+  }
+  std::vector<double> times;
+  py::list points, segments;
+  for (const window::FrameInput& f : in.frames) {
+    times.push_back(f.time);
+    Eigen::MatrixXd p(static_cast<Eigen::Index>(f.points.size()), 3);
+    for (std::size_t k = 0; k < f.points.size(); ++k)
+      p.row(static_cast<Eigen::Index>(k)) << f.points[k].point_id, f.points[k].uv.transpose();
+    Eigen::MatrixXd l(static_cast<Eigen::Index>(f.segments.size()), 5);
+    for (std::size_t k = 0; k < f.segments.size(); ++k) {
+      const sensor::SegmentObservation& o = f.segments[k];
+      l.row(static_cast<Eigen::Index>(k)) << o.line_id, o.s_px.transpose(), o.e_px.transpose();
+    }
+    points.append(ToArray(p));
+    segments.append(ToArray(l));
+  }
+  py::dict d;
+  d["camera"] = camera;
+  d["imu"] = ToArray(imu);
+  d["imu_model"] = ImuModelDict(c.imu);
+  d["gravity_magnitude"] = c.gravity_magnitude;
+  d["pixel_sigma"] = c.pixel_sigma;
+  d["frame_times"] = DoubleArray(std::move(times));
+  d["points"] = points;
+  d["segments"] = segments;
+  d["ground_truth_T_w_b"] =
+      in.gt_T_w_b ? py::object(PoseMatrices(*in.gt_T_w_b)) : py::object(py::none());
+  d["warnings"] = in.warnings;
   return d;
 }
 
@@ -179,6 +228,13 @@ void RegisterIo(py::module_& m) {
       py::arg("path"),
       "An image file as 8-bit grayscale (H, W) uint8 (colour converted), as plucker vo/vio read\n"
       "them. Raises IoError for a missing or unreadable file.");
+  m.def("read_features", &FeaturesDict, py::arg("dir"), py::arg("point_stride") = 1,
+        "A features folder (docs/sim-format.md: rig.txt, imu.txt, points.txt, segments.txt) as\n"
+        "plucker vio --features reads it: camera (K, width, height, T_b_c, T_b_c_tq), imu (N, 7),\n"
+        "imu_model, gravity_magnitude, pixel_sigma, and per frame the IMU covers frame_times,\n"
+        "points (n, 3) = (id, u, v) and segments (m, 5) = (id, x1, y1, x2, y2) as add_frame\n"
+        "takes them (point tracks of id >= 0 and a multiple of point_stride), the ground truth\n"
+        "T_w_b per frame when the folder has it, and the warnings (frames skipped).");
   m.def(
       "read_euroc", [](const std::string& dir) { return EurocDict(io::ReadEurocDataset(dir)); },
       py::arg("dir"),
