@@ -26,11 +26,18 @@ struct PinholeViewStats {
   int dropped_points = 0;    // beyond the valid angle or max_incidence_deg
 };
 
+// The default of ToPinholeView: raw points up to 60 deg off the axis. The window weighs every
+// point in view pixels with one sigma, while a raw pixel's noise grows in the view by up to
+// 1 / cos^2(theta) radially (4x at 60 deg): more points far off-axis made the simulated room's
+// VIO worse, not better (docs/results/fisheye.md).
+constexpr double kDefaultMaxIncidenceDeg = 60.0;
+
 // Rewrites the sequence in the view's pinhole: points mapped (raw points) and the rig replaced
 // by ViewCamera's K and size (fisheye cleared, T_b_c kept). A pinhole sequence is unchanged.
 // Outliers (id -1) are mapped alike. Throws std::invalid_argument for an invalid view or
 // max_incidence_deg not in (0, 90].
-PinholeViewStats ToPinholeView(CameraImuSequence* sequence, double max_incidence_deg = 90.0);
+PinholeViewStats ToPinholeView(CameraImuSequence* sequence,
+                               double max_incidence_deg = kDefaultMaxIncidenceDeg);
 
 }  // namespace sensor
 }  // namespace plucker
