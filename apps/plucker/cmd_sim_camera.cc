@@ -28,6 +28,9 @@ struct SimCameraArgs {
   double imu_rate = 200.0;
   double standing_start = 0.0;
   std::string motion = "normal";
+  std::string camera_model = "pinhole";
+  double view_fov = sim::kDefaultViewFovDeg;
+  std::string points = "full";
 };
 
 int Run(const SimCameraArgs& args) {
@@ -46,6 +49,8 @@ int Run(const SimCameraArgs& args) {
   options.imu.model.rate_hz = args.imu_rate;
   options.trajectory.standing_start_s = args.standing_start;
   if (args.motion == "aggressive") sim::MakeAggressive(&options.trajectory);
+  if (args.camera_model == "kb")
+    options.rig = sim::FisheyeRig(args.view_fov, args.points == "view");
   const sim::CameraSimulation sim = sim::SimulateCamera(options);
   io::WriteCameraImuSequence(args.out, sim::ToCameraImuSequence(sim));
 
@@ -60,6 +65,14 @@ int Run(const SimCameraArgs& args) {
   std::printf("  frames      %zu at %g Hz (%.1f s, path %.1f m), image %dx%d\n",
               sim.frame_times.size(), args.frame_rate, sim.frame_times.back(), path, sim.rig.width,
               sim.rig.height);
+  if (const auto& f = sim.rig.fisheye) {  // the default (pinhole) output unchanged
+    std::printf(
+        "  fisheye     Kannala-Brandt k1..k4 %g %g %g %g; segments%s in a %dx%d pinhole "
+        "view, fx %.2f (%g deg)\n",
+        f->coeffs.k1, f->coeffs.k2, f->coeffs.k3, f->coeffs.k4,
+        f->points_in_view ? " and points" : "", f->view_width, f->view_height, f->view_K.fx,
+        args.view_fov);
+  }
   std::printf("  points      %d observations + %d outliers (%.1f per frame)\n",
               st.num_point_inliers, st.num_point_outliers,
               static_cast<double>(st.num_point_inliers + st.num_point_outliers) / args.frames);
@@ -115,6 +128,19 @@ void RegisterSimCamera(CLI::App& sim, int* exit_code) {
   cmd->add_option("--motion", args->motion,
                   "Motion: normal, or aggressive (up to ~8 m/s and ~2 rad/s; docs/sim-format.md)")
       ->check(CLI::IsMember({"normal", "aggressive"}))
+      ->capture_default_str();
+  cmd->add_option("--camera-model", args->camera_model,
+                  "Camera: pinhole (640x480, fx 400), or kb: a 512x512 Kannala-Brandt fisheye "
+                  "(TUM-VI-like, 154 deg across; docs/sim-format.md)")
+      ->check(CLI::IsMember({"pinhole", "kb"}))
+      ->capture_default_str();
+  cmd->add_option("--view-fov", args->view_fov,
+                  "kb: field of view (deg) of the 512x512 undistorted pinhole view of the segments")
+      ->check(CLI::Range(1.0, 169.0))
+      ->capture_default_str();
+  cmd->add_option("--points", args->points,
+                  "kb: points in the full fisheye image (raw pixels) or in the segments' view")
+      ->check(CLI::IsMember({"full", "view"}))
       ->capture_default_str();
   cmd->callback(
       [args, exit_code]() { RunGuarded("sim camera", exit_code, [&] { return Run(*args); }); });

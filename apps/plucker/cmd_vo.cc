@@ -25,6 +25,7 @@
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
 #include "plucker/odometry/monocular_odometry.h"
+#include "plucker/sensor/fisheye_rig.h"
 #include "process_setup.h"
 #include "progress.h"
 #include "run_guarded.h"
@@ -69,7 +70,8 @@ int Run(const VoArgs& a, VoConfig config) {
     stream = std::make_unique<VoImageStream>(a.images);
     vo = std::make_unique<odometry::MonocularOdometry>(stream->camera(), config);
   } else {
-    const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
+    sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
+    sensor::ToPinholeView(&seq);  // a fisheye rig's raw points into its view (fisheye_rig.h)
     frames = FeatureFrames(seq, a.point_stride);
     config.window.point_sigma_px = config.window.line_sigma_px =
         std::max(seq.observation_model.pixel_sigma, 0.5);

@@ -5,6 +5,7 @@
 #include "plucker/io/euroc_dataset.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/sim_format.h"
+#include "plucker/sensor/fisheye_rig.h"
 
 namespace plucker {
 namespace app {
@@ -19,7 +20,8 @@ std::vector<window::FrameInput> FeatureFrames(const sensor::CameraImuSequence& s
 }
 
 VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
-  const sensor::CameraImuSequence seq = io::ReadCameraImuSequence(dir);
+  sensor::CameraImuSequence seq = io::ReadCameraImuSequence(dir);
+  sensor::ToPinholeView(&seq);  // a fisheye rig's raw points into its view (fisheye_rig.h)
   VioInput in;
   in.source = dir;
   in.calibration.camera.K = seq.rig.K;

@@ -314,6 +314,27 @@ void CheckCount(const std::string& path, std::size_t found, long long expected) 
   }
 }
 
+// The fisheye records of rig.txt (docs/sim-format.md): `equidistant k1 k2 k3 k4` and
+// `view fx fy cx cy W H POINTS_IN_VIEW`, both or neither.
+void ReadFisheye(const FileParser& p, const std::string& path,
+                 std::map<std::string, const Record*>& by_key, sensor::CameraRig* rig) {
+  const bool has_equidistant = by_key.count("equidistant") > 0, has_view = by_key.count("view") > 0;
+  if (has_equidistant != has_view) {
+    throw IoError(path, std::string("missing '") + (has_view ? "equidistant" : "view") +
+                            "' record (a fisheye rig needs both)");
+  }
+  if (!has_equidistant) return;
+  sensor::FisheyeView& f = rig->fisheye.emplace();
+  const Record& e = *by_key["equidistant"];
+  f.coeffs = EquidistantDistortion{p.Double(e, 1), p.Double(e, 2), p.Double(e, 3), p.Double(e, 4)};
+  const Record& v = *by_key["view"];
+  f.view_K = PinholeIntrinsics{p.Double(v, 1), p.Double(v, 2), p.Double(v, 3), p.Double(v, 4)};
+  if (!f.view_K.IsValid()) p.Fail(v, "view: fx and fy must be positive");
+  f.view_width = static_cast<int>(p.Int(v, 5, 2, 1 << 20));
+  f.view_height = static_cast<int>(p.Int(v, 6, 2, 1 << 20));
+  f.points_in_view = p.Int(v, 7, 0, 1) == 1;
+}
+
 void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Counts* counts) {
   const FileParser p(path);
   if (p.first_line().rfind(kHeader, 0) != 0) {
@@ -329,7 +350,7 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
       {"image", 3},         {"intrinsics", 5},       {"T_b_c", 8},       {"imu_rate_hz", 2},
       {"imu_noise", 5},     {"imu_initial_bias", 7}, {"gravity", 4},     {"pixel_sigma", 2},
       {"outlier_ratio", 2}, {"min_segment_px", 2},   {"depth_range", 3}, {"observe", 3},
-      {"counts", 5}};
+      {"counts", 5},        {"equidistant", 5},      {"view", 8}};
   for (const auto& [key, record] : by_key) {
     const auto it = expected.find(key);
     if (it == expected.end()) p.Fail(*record, "unknown record '" + key + "'");
@@ -338,7 +359,9 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   for (const auto& [key, n] : expected) {
     (void)n;
     // The initial biases are ground truth: a folder without it may leave them out.
-    const bool optional = key == "imu_initial_bias" && !sequence->ground_truth;
+    // The fisheye records: both or neither (checked below).
+    const bool optional = (key == "imu_initial_bias" && !sequence->ground_truth) ||
+                          key == "equidistant" || key == "view";
     if (!optional && !by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
   }
   sensor::CameraRig& rig = sequence->rig;
@@ -350,6 +373,7 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   if (!rig.K.IsValid()) p.Fail(k, "intrinsics: fx and fy must be positive");
   const Record& tbc = *by_key["T_b_c"];
   rig.T_b_c = p.Pose(tbc, 1);
+  ReadFisheye(p, path, by_key, &rig);
 
   sensor::ImuModel& imu = sequence->imu_model;
   const Record& rate = *by_key["imu_rate_hz"];
@@ -544,6 +568,12 @@ void WriteRig(const std::string& path, const std::string& header,
   w.Text("image").Int(rig.width).Int(rig.height).EndLine();
   w.Text("intrinsics").Num(rig.K.fx).Num(rig.K.fy).Num(rig.K.cx).Num(rig.K.cy).EndLine();
   w.Text("T_b_c").Pose(rig.T_b_c).EndLine();
+  if (const auto& f = rig.fisheye) {
+    const EquidistantDistortion& d = f->coeffs;
+    w.Text("equidistant").Num(d.k1).Num(d.k2).Num(d.k3).Num(d.k4).EndLine();
+    w.Text("view").Num(f->view_K.fx).Num(f->view_K.fy).Num(f->view_K.cx).Num(f->view_K.cy);
+    w.Int(f->view_width).Int(f->view_height).Int(f->points_in_view).EndLine();
+  }
   w.Text("imu_rate_hz").Num(imu.rate_hz).EndLine();
   w.Text("imu_noise").Num(imu.gyro_noise_density).Num(imu.accel_noise_density);
   w.Num(imu.gyro_bias_random_walk).Num(imu.accel_bias_random_walk).EndLine();

@@ -5,6 +5,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "plucker/sensor/fisheye_rig.h"
+
 namespace plucker {
 namespace sim {
 
@@ -30,6 +32,27 @@ sensor::CameraRig DefaultRig() {
   rig.width = 640;
   rig.height = 480;
   rig.T_b_c = DefaultBodyCameraPose();
+  return rig;
+}
+
+sensor::CameraRig FisheyeRig(double view_fov_deg, bool points_in_view) {
+  if (!(view_fov_deg > 0.0 && view_fov_deg < 170.0)) {
+    throw std::invalid_argument("fisheye rig: the view's field of view must be in (0, 170) deg");
+  }
+  sensor::CameraRig rig;
+  rig.K = PinholeIntrinsics{190.97847715128717, 190.9733070521226, 254.93170605935475,
+                            256.8974428996504};
+  rig.width = 512;
+  rig.height = 512;
+  rig.T_b_c = DefaultBodyCameraPose();
+  sensor::FisheyeView& f = rig.fisheye.emplace();
+  f.coeffs = EquidistantDistortion{0.0034823894022493434, 0.0007150348452162257,
+                                   -0.0020532361418706202, 0.00020293673591811182};
+  const double fx = 256.0 / std::tan(view_fov_deg * M_PI / 360.0);
+  f.view_K = PinholeIntrinsics{fx, fx, 255.5, 255.5};
+  f.view_width = 512;
+  f.view_height = 512;
+  f.points_in_view = points_in_view;
   return rig;
 }
 
@@ -84,6 +107,35 @@ void ValidateRig(const sensor::CameraRig& rig) {
       !rig.T_b_c.rotation().coeffs().allFinite()) {
     throw std::invalid_argument("camera rig: invalid intrinsics, image size or extrinsic");
   }
+  if (rig.fisheye && (!rig.fisheye->coeffs.IsValid() || !rig.fisheye->view_K.IsValid() ||
+                      rig.fisheye->view_width < 2 || rig.fisheye->view_height < 2)) {
+    throw std::invalid_argument("camera rig: invalid fisheye coefficients or view");
+  }
+}
+
+// The pinhole in which the segments are observed: the fisheye rig's view, else the rig.
+sensor::CameraRig SegmentRig(const sensor::CameraRig& rig) {
+  if (!rig.fisheye) return rig;
+  sensor::CameraRig view = rig;
+  view.K = rig.fisheye->view_K;
+  view.width = rig.fisheye->view_width;
+  view.height = rig.fisheye->view_height;
+  view.fisheye.reset();
+  return view;
+}
+
+// The noise-free raw pixel of p_w in a fisheye rig's full image, or nullopt (not visible).
+std::optional<Vector2d> ProjectVisibleFisheyePoint(const Vector3d& p_w, const SE3d& T_w_c,
+                                                   const sensor::Camera& raw, double min_depth,
+                                                   double max_depth) {
+  const Vector3d p_c = T_w_c.rotation().conjugate() * (p_w - T_w_c.translation());
+  if (!(p_c.z() >= min_depth && p_c.z() <= max_depth)) return std::nullopt;
+  const auto uv = raw.Project(p_c);
+  if (!uv || !(uv->x() >= 0.0 && uv->x() <= raw.width - 1.0 && uv->y() >= 0.0 &&
+               uv->y() <= raw.height - 1.0)) {
+    return std::nullopt;
+  }
+  return uv;
 }
 
 void ValidateObservationOptions(const ObservationOptions& o) {
@@ -175,16 +227,26 @@ CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig
                                 std::uint64_t seed) {
   ValidateRig(rig);
   ValidateObservationOptions(options);
+  const sensor::CameraRig seg_rig = SegmentRig(rig);  // = rig without a fisheye
+  const bool raw_points = rig.fisheye && !rig.fisheye->points_in_view;
+  const sensor::CameraRig& point_rig = raw_points ? rig : seg_rig;
+  const sensor::Camera raw_camera = sensor::RawCamera(rig);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform_u(0.0, rig.width - 1.0);
-  std::uniform_real_distribution<double> uniform_v(0.0, rig.height - 1.0);
+  std::uniform_real_distribution<double> uniform_u(0.0, point_rig.width - 1.0);
+  std::uniform_real_distribution<double> uniform_v(0.0, point_rig.height - 1.0);
+  std::uniform_real_distribution<double> seg_u(0.0, seg_rig.width - 1.0);
+  std::uniform_real_distribution<double> seg_v(0.0, seg_rig.height - 1.0);
   auto noise = [&] {
     const double x = normal(rng), y = normal(rng);
     return Vector2d(options.pixel_sigma * x, options.pixel_sigma * y);
   };
   auto random_pixel = [&] {
     const double u = uniform_u(rng), v = uniform_v(rng);
+    return Vector2d(u, v);
+  };
+  auto random_segment_pixel = [&] {
+    const double u = seg_u(rng), v = seg_v(rng);
     return Vector2d(u, v);
   };
 
@@ -194,8 +256,11 @@ CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig
     const SE3d& T = T_w_c[frame];
     if (options.observe_points) {
       for (int id = 0; id < static_cast<int>(scene.points_w.size()); ++id) {
-        const auto uv =
-            ProjectVisiblePoint(scene.points_w[id], T, rig, options.min_depth, options.max_depth);
+        const auto uv = raw_points
+                            ? ProjectVisibleFisheyePoint(scene.points_w[id], T, raw_camera,
+                                                         options.min_depth, options.max_depth)
+                            : ProjectVisiblePoint(scene.points_w[id], T, point_rig,
+                                                  options.min_depth, options.max_depth);
         if (!uv) continue;
         out.points.push_back({frame, id, *uv + noise()});
         ++st.num_point_inliers;
@@ -209,8 +274,8 @@ CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig
     }
     if (options.observe_segments) {
       for (int id = 0; id < static_cast<int>(scene.segments_w.size()); ++id) {
-        const auto clipped =
-            ClipSegmentToImage(scene.segments_w[id], T, rig, options.min_depth, options.max_depth);
+        const auto clipped = ClipSegmentToImage(scene.segments_w[id], T, seg_rig, options.min_depth,
+                                                options.max_depth);
         if (!clipped || (clipped->e_px - clipped->s_px).norm() < options.min_segment_px) continue;
         const Vector2d ns = noise(), ne = noise();
         out.segments.push_back({frame, id, clipped->s_px + ns, clipped->e_px + ne});
@@ -220,10 +285,10 @@ CameraObservations ObserveScene(const Scene& scene, const sensor::CameraRig& rig
           OutliersDue(options.outlier_ratio, st.num_segment_inliers, st.num_segment_outliers);
       for (int k = 0; k < n_out; ++k) {
         // Uniform endpoints, redrawn (a bounded number of times) until long enough.
-        Vector2d s = random_pixel(), e = random_pixel();
+        Vector2d s = random_segment_pixel(), e = random_segment_pixel();
         for (int attempt = 0; attempt < 100 && (e - s).norm() < options.min_segment_px; ++attempt) {
-          s = random_pixel();
-          e = random_pixel();
+          s = random_segment_pixel();
+          e = random_segment_pixel();
         }
         out.segments.push_back({frame, -1, s, e});
         ++st.num_segment_outliers;

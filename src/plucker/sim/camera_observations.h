@@ -10,6 +10,11 @@
 // Noise: i.i.d. Gaussian pixel_sigma on every coordinate. Outliers (id -1): uniformly random
 // pixels / random segments inside the image, outlier_ratio = outliers / all observations.
 // No occlusion test: the scenes are convex from the free space (frames protrude by centimetres).
+// A fisheye rig (rig.fisheye, FisheyeRig()) is observed as a real fisheye front end delivers:
+// points projected through the Kannala-Brandt lens into the full raw image (visible when
+// min_depth <= z <= max_depth, within the lens's valid angle and inside the raw image; noise and
+// outliers in raw pixels), or with points_in_view like the segments: in the undistorted pinhole
+// view (FisheyeView::view_K and size), clipped against its frustum, noise in view pixels.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,6 +47,17 @@ SE3d CanonicalPose(const SE3d& T);
 // The simulated rig: a 640 x 480 pinhole with fx = fy = 400 and the principal point at the
 // image centre, mounted at DefaultBodyCameraPose().
 sensor::CameraRig DefaultRig();
+
+// The simulated fisheye (`plucker sim camera --camera-model kb`): TUM-VI's cam0 as Kalibr
+// calibrated it, a 512 x 512 Kannala-Brandt camera, fx = fy = 190.98, principal point
+// (254.93, 256.90), k1..k4 = (0.003482, 0.000715, -0.002053, 0.000203): 154 deg across the
+// image's width, the lens's 180 deg (its valid angle) reached before the corners. Mounted at
+// DefaultBodyCameraPose(). The segments' pinhole view is 512 x 512 with the principal point at
+// the image centre and fx = fy = 256 / tan(view_fov_deg / 2) (view_fov_deg in (0, 170)):
+// kDefaultViewFovDeg gives the lens's own resolution at the centre (fx = 191, the view of
+// vision::Undistorter's default).
+constexpr double kDefaultViewFovDeg = 107.0;
+sensor::CameraRig FisheyeRig(double view_fov_deg = kDefaultViewFovDeg, bool points_in_view = false);
 
 // Observations (sensor/camera_observations.h): point_id indexes Scene::points_w, line_id
 // Scene::segments_w; -1 is an outlier.
