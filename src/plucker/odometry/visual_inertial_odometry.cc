@@ -260,7 +260,10 @@ void VisualInertialOdometry::Impl::StartWindow() {
     kf_frames.push_back(frames[start.second]);
     states.push_back(start.state_second);
     init = estimator->InitializeInertial(kf_frames, states, 10);
-    if (init.ok) start.first = start_keyframes.front();
+    if (init.ok) {
+      start.first = start_keyframes.front();
+      start.state_first = states.front();
+    }
   }
   if (!init.ok) {
     init =

@@ -150,6 +150,25 @@ TEST(VisualInertialOdometry, FrameObserverSeesEveryPosedFrameOnce) {
     EXPECT_TRUE(T_w_c_seen.at(r.frame).translation().isApprox(T_w_c.translation(), 1e-12))
         << r.frame;
   }
+
+// A window smaller than the alignment's keyframes starts on the newest of them: the reported
+// first keyframe and its state are the window's (the state was the alignment's first keyframe's).
+TEST(VisualInertialOdometry, DynamicStartReportsTheWindowsFirstKeyframeState) {
+  const Input in = Simulate(60);
+  VisualInertialOdometryOptions o = FastOptions();
+  o.window = 4;
+  const VioRun run = Feed(in, o);
+  ASSERT_TRUE(run.init.done);
+  ASSERT_EQ(run.init.method, "dynamic");
+  ASSERT_GT(run.init.first, 0);
+  EXPECT_NEAR(run.init.state_first.t, in.frames[run.init.first].time, 1e-9);
+  ASSERT_TRUE(run.refined[run.init.first].keyframe);
+  ASSERT_TRUE(run.refined[run.init.first].T_w_b);
+  // The alignment's pose of that keyframe, before the window's first solve moved it.
+  EXPECT_LT(
+      (run.init.state_first.T_w_b.translation() - run.refined[run.init.first].T_w_b->translation())
+          .norm(),
+      0.05);
 }
 
 // The result of frame k depends on the inputs up to frame k only: the IMU given all at once,
