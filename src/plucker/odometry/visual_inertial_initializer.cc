@@ -85,6 +85,7 @@ bool VisualInertialInitializer::Impl::StaticTest(
     const std::vector<inertial::ImageMotionFlag>& flags, bool end) {
   inertial::StaticInitOptions so;
   so.gravity_magnitude = calib.gravity_magnitude;
+  so.max_accel_std = o.static_max_accel_std;
   inertial::StaticInitResult still;
   if (end) {
     still = inertial::InitializeStatic(imu, so, frames.front().time, flags);
@@ -114,13 +115,17 @@ bool VisualInertialInitializer::Impl::StaticTest(
   return false;
 }
 
-// Static: the still span at the start of the log; the window starts on its first two frames.
+// Static: the still span at the start of the log; the window starts on its first two covered
+// frames.
 bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::FrameInput>& frames,
                                                   const std::vector<sensor::ImuSample>& imu,
                                                   const inertial::StaticInitResult& still) {
   const int n = static_cast<int>(frames.size());
+  // The still test ran from the first frame's time: its span begins at the first IMU sample at or
+  // after it, so every covered frame is in the span. (Testing frame times against still_begin
+  // dropped frame 0 whenever a Kalibr timeshift_cam_imu put it between two IMU samples.)
   int a = 0;
-  while (a < n && (frames[a].time < still.still_begin || !Covered(imu, frames[a].time))) ++a;
+  while (a < n && !Covered(imu, frames[a].time)) ++a;
   if (a + 1 >= n || !Covered(imu, frames[a + 1].time)) return false;
   start.method = "static";
   start.first = a;
