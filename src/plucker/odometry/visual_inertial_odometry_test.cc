@@ -150,6 +150,7 @@ TEST(VisualInertialOdometry, FrameObserverSeesEveryPosedFrameOnce) {
     EXPECT_TRUE(T_w_c_seen.at(r.frame).translation().isApprox(T_w_c.translation(), 1e-12))
         << r.frame;
   }
+}
 
 // A window smaller than the alignment's keyframes starts on the newest of them: the reported
 // first keyframe and its state are the window's (the state was the alignment's first keyframe's).
