@@ -276,7 +276,10 @@ SE3d PredictPoseAt(const std::vector<SE3d>& T_w_s, const std::vector<double>& st
     *steps = static_cast<int>(std::min(std::round(elapsed / period), 1000.0));
   if (m == 1 && *steps == 1) return PredictPose(T_w_s, constant_velocity);
   SE3d T_step = T_w_s[n - 2].Inverse() * T_w_s[n - 1];  // over m periods: its m-th root
-  if (m > 1) T_step = SE3d(ExpSO3<double>(LogSO3(T_step.rotation()) / m), T_step.translation() / m);
+  if (m > 1) {  // a constant twist: t_m = sum_k R^k t ~ m R^((m - 1) / 2) t
+    const Eigen::Vector3d w = LogSO3(T_step.rotation()) / m;
+    T_step = SE3d(ExpSO3<double>(w), ExpSO3<double>(-0.5 * (m - 1) * w) * T_step.translation() / m);
+  }
   SE3d T_w_s_pred = T_w_s[n - 1];
   for (int k = 0; k < *steps; ++k) T_w_s_pred = T_w_s_pred * T_step;
   return T_w_s_pred;
