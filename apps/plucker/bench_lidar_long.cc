@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "lidar_sim_options.h"
 #include "plucker/eval/statistics.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/kitti_lidar.h"
@@ -68,7 +67,7 @@ struct SimulatedDrive::State {
       : sensor(sensor_model),
         scene(sim::MakeScene(scene_name, seed)),
         trajectory(scene.route),
-        simulator(scene, LidarSimOptionsFor(sensor, 0.02, false, seed)),
+        simulator(scene, sim::LidarSimOptionsFor(sensor, 0.02, false, seed)),
         scene_name(scene_name) {}
   sensor::LidarModel sensor;
   sim::LidarScene scene;

@@ -18,7 +18,6 @@
 #include "commands.h"
 #include "lidar_options_table.h"
 #include "lidar_sequence_defaults.h"
-#include "lidar_sim_options.h"
 #include "plucker/io/lidar_sequence.h"
 #include "plucker/io/trajectory_io.h"
 #include "plucker/lidar/odometry.h"
@@ -38,11 +37,13 @@ struct BasinArgs {
   bool sim = false;
   std::string sensor = "hdl64";
   double sim_time = 5.0;
+  double speed = 10.0;  // m/s
   int frames = 10;
   std::size_t pair = 0;
   std::vector<double> translations{0.5, 1.0, 1.5, 2.0, 2.5, 3.0};
   std::vector<double> yaws{0.0, 5.0, 10.0, 15.0};
-  std::vector<int> drops{1, 2, 3};
+  std::vector<int> drops{1, 2, 3, 5, 10};
+  bool no_basin = false;
 };
 
 // Scans with their rings assigned (so that moving their points keeps the rings) and the
@@ -79,12 +80,15 @@ Sequence LoadKitti(const BasinArgs& a, const lidar::LidarOdometryOptions& option
 Sequence Simulate(const BasinArgs& a) {
   const sensor::LidarModel model = sensor::LidarModelFromName(a.sensor);
   const sim::LidarScene scene = sim::MakeUrbanScene();
-  const sim::VehicleTrajectory trajectory(scene.route);  // 10 m/s: 1 m per scan
-  const sim::LidarSimulator simulator(scene, LidarSimOptionsFor(model, 0.02, false, 1));
-  Sequence s{"simulated urban street, " + model.name +
-                 ", 2 cm range noise, from t = " + std::to_string(a.sim_time) + " s",
-             {},
-             {}};
+  sim::VehicleTrajectoryOptions motion;
+  motion.speed = a.speed;
+  const sim::VehicleTrajectory trajectory(scene.route, motion);
+  const sim::LidarSimulator simulator(scene, sim::LidarSimOptionsFor(model, 0.02, false, 1));
+  char name[160];
+  std::snprintf(name, sizeof(name),
+                "simulated urban street, %s, %.1f m/s, 2 cm range noise, from t = %.1f s",
+                model.name.c_str(), a.speed, a.sim_time);
+  Sequence s{name, {}, {}};
   const SE3d T_s0_w = trajectory.T_w_s(a.sim_time).Inverse();
   for (int i = 0; i < a.frames; ++i) {
     const double t = a.sim_time + i / model.rate_hz;
@@ -136,36 +140,70 @@ void PrintBasin(const Sequence& s, const BasinArgs& a, const lidar::LidarOdometr
   }
 }
 
-// Runs the sequence without scans [k, k + n) and reports the first pair across the gap.
+// The per-pair errors of a run of the sequence without scans [k, k + n): skipped (SkipFrame, as
+// a numbered file that is missing or unreadable) or absent (never given: only the scan times
+// show the gap). Returns the error across the gap (cm, deg) and the worst pair after it (cm).
+struct RestartError {
+  double across_cm = 0.0, across_deg = 0.0, worst_after_cm = 0.0;
+};
+
+RestartError RunRestart(const Sequence& s, std::size_t k, std::size_t after, bool absent,
+                        const lidar::LidarOdometryOptions& o) {
+  lidar::LidarOdometry odometry(o);
+  std::vector<std::size_t> scan_of_pose;
+  for (std::size_t j = 0; j < s.scans.size(); ++j) {
+    const bool dropped = j >= k && j < after;
+    if (dropped && absent) continue;
+    if (dropped)
+      odometry.SkipFrame("dropped", s.scans[j].timestamp);
+    else
+      odometry.ProcessScan(s.scans[j]);
+    scan_of_pose.push_back(j);
+  }
+  std::vector<SE3d> T(s.scans.size());
+  for (std::size_t p = 0; p < scan_of_pose.size(); ++p) T[scan_of_pose[p]] = odometry.poses()[p];
+  auto pair_error = [&](std::size_t x, std::size_t y) {
+    const SE3d ref = s.T_s0_s[x].Inverse() * s.T_s0_s[y];
+    return Size(ref.Inverse() * (T[x].Inverse() * T[y]));
+  };
+  RestartError e;
+  const auto [gt, gr] = pair_error(k - 1, after);
+  e.across_cm = 100.0 * gt, e.across_deg = gr;
+  for (std::size_t j = after; j + 1 < s.scans.size(); ++j)
+    e.worst_after_cm = std::max(e.worst_after_cm, 100.0 * pair_error(j, j + 1).first);
+  return e;
+}
+
+// Runs the sequence without scans [k, k + n) and reports the first pair across the gap, with the
+// restart handling (restart_from_stamps, restart_min_plane_match) off ("before") and as given.
 void PrintRestart(const Sequence& s, const BasinArgs& a, const lidar::LidarOdometryOptions& o) {
-  std::printf("\nrestart: %s, scans [k, k + n) dropped (skipped, as an unreadable file is)\n\n",
-              s.name.c_str());
-  std::printf("| k | n | gap (m) | error across the gap (cm / deg) | worst pair after (cm) |\n");
-  std::printf("|---|---|---|---|---|\n");
+  std::printf(
+      "\nrestart: %s, scans [k, k + n) dropped: skipped (as a missing or unreadable numbered "
+      "file) or absent (never given; only the scan times show the gap); error across the gap "
+      "(cm / deg) and the worst pair after it (cm), without the restart handling "
+      "(registration.restart_from_stamps false, restart_min_plane_match 0) and with it\n\n",
+      s.name.c_str());
+  std::printf(
+      "| drop | k | n | gap (m) | across, before | across, now | worst after, before | worst "
+      "after, now |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  lidar::LidarOdometryOptions before = o;
+  before.restart_from_stamps = false;
+  before.restart_min_plane_match = 0.0;
   const std::size_t mid = s.scans.size() / 2;
-  for (std::size_t k : {std::size_t{1}, mid}) {
-    for (int n : a.drops) {
-      const std::size_t after = k + static_cast<std::size_t>(n);
-      if (after + 1 >= s.scans.size()) continue;
-      lidar::LidarOdometry odometry(o);
-      for (std::size_t j = 0; j < s.scans.size(); ++j) {
-        if (j >= k && j < after)
-          odometry.SkipFrame("dropped");
-        else
-          odometry.ProcessScan(s.scans[j]);
+  for (bool absent : {false, true}) {
+    for (std::size_t k : {std::size_t{1}, mid}) {
+      for (int n : a.drops) {
+        const std::size_t after = k + static_cast<std::size_t>(n);
+        if (after + 1 >= s.scans.size()) continue;
+        const RestartError b = RunRestart(s, k, after, absent, before);
+        const RestartError e = RunRestart(s, k, after, absent, o);
+        std::printf("| %s | %zu | %d | %.2f | %.1f / %.2f | %.1f / %.2f | %.1f | %.1f |\n",
+                    absent ? "absent" : "skipped", k, n,
+                    Size(s.T_s0_s[k - 1].Inverse() * s.T_s0_s[after]).first, b.across_cm,
+                    b.across_deg, e.across_cm, e.across_deg, b.worst_after_cm, e.worst_after_cm);
+        std::fflush(stdout);
       }
-      const std::vector<SE3d>& T = odometry.poses();
-      auto pair_error = [&](std::size_t x, std::size_t y) {
-        const SE3d ref = s.T_s0_s[x].Inverse() * s.T_s0_s[y];
-        return Size(ref.Inverse() * (T[x].Inverse() * T[y]));
-      };
-      const auto [gt, gr] = pair_error(k - 1, after);
-      double worst = 0.0;
-      for (std::size_t j = after; j + 1 < s.scans.size(); ++j)
-        worst = std::max(worst, pair_error(j, j + 1).first);
-      std::printf("| %zu | %d | %.2f | %.1f / %.2f | %.1f |\n", k, n,
-                  Size(s.T_s0_s[k - 1].Inverse() * s.T_s0_s[after]).first, 100.0 * gt, gr,
-                  100.0 * worst);
     }
   }
 }
@@ -177,9 +215,11 @@ int RunBasin(const BasinArgs& a) {
   if (a.sim == !a.data.empty()) throw std::runtime_error("give either --data (with --gt) or --sim");
   if (!a.sim && a.gt.empty()) throw std::runtime_error("--data needs --gt (reference poses)");
   if (a.frames < 2) throw std::runtime_error("--frames must be >= 2");
+  if (!(a.speed > 0.0 && a.speed <= 60.0))
+    throw std::runtime_error("--speed must be in (0, 60] m/s");
   const Sequence s = a.sim ? Simulate(a) : LoadKitti(a, options);
   std::printf("registration.start_distance = %.2f m\n", options.start_distance);
-  PrintBasin(s, a, options);
+  if (!a.no_basin) PrintBasin(s, a, options);
   PrintRestart(s, a, options);
   return 0;
 }
@@ -200,6 +240,9 @@ void RegisterEvalLidarBasin(CLI::App& eval, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--sim-time", args->sim_time, "Simulated drive: time of the first scan [s]")
       ->capture_default_str();
+  cmd->add_option("--speed", args->speed, "Simulated drive: speed [m/s] (--sim)")
+      ->capture_default_str();
+  cmd->add_flag("--no-basin", args->no_basin, "Only the restart table");
   cmd->add_option("--frames", args->frames, "Scans used (restart runs)")->capture_default_str();
   cmd->add_option("--pair", args->pair, "Basin pair: scans i and i + 1")->capture_default_str();
   cmd->add_option("--translations", args->translations, "Imposed forward motions [m]")

@@ -178,7 +178,7 @@ int RunLidar(const LidarArgs& a) {
     lidar::FrameResult r;
     double odometry_ms = 0.0, odometry_cpu_ms = 0.0;
     if (!read_ok) {
-      r = odometry.SkipFrame(error);
+      r = odometry.SkipFrame(error, stamp);
     } else {
       if (!a.map.empty()) scan_points = scan.points;
       const auto t1 = Clock::now();

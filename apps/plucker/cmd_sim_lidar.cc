@@ -13,7 +13,6 @@
 #include <sstream>
 
 #include "commands.h"
-#include "lidar_sim_options.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/kitti_lidar.h"
 #include "plucker/io/pcd.h"
@@ -86,7 +85,7 @@ int Run(const SimLidarArgs& args) {
   const sim::VehicleTrajectory trajectory(scene.route, motion);
 
   const sim::LidarSimOptions options =
-      LidarSimOptionsFor(sensor, args.noise, args.distortion, args.seed);
+      sim::LidarSimOptionsFor(sensor, args.noise, args.distortion, args.seed);
   const sim::LidarSimulator simulator(scene, options);
 
   const fs::path out(args.out);

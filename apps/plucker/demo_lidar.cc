@@ -1,7 +1,6 @@
 // The LiDAR part of `plucker demo`: simulated 64-beam drive through the urban scene, LiDAR
 // odometry with the analytic edge/plane factors, evaluation against ground truth, plot.
 #include "demo_lidar.h"
-#include "lidar_sim_options.h"
 
 #include <algorithm>
 #include <chrono>
@@ -41,7 +40,7 @@ int RunLidarDemo(const std::filesystem::path& dir, int frames, std::uint64_t see
   const sim::LidarScene scene = sim::MakeScene("urban", seed);
   const sim::VehicleTrajectory trajectory(scene.route);
   const sim::LidarSimOptions sim_options =
-      LidarSimOptionsFor(sensor, /*range_noise_sigma=*/0.02, /*distortion=*/false, seed);
+      sim::LidarSimOptionsFor(sensor, /*range_noise_sigma=*/0.02, /*distortion=*/false, seed);
   const sim::LidarSimulator simulator(scene, sim_options);
 
   lidar::LidarOdometry odometry;

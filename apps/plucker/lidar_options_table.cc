@@ -113,6 +113,14 @@ std::vector<LidarOption> MakeRows() {
           "without a motion prior (second scan, after skips): coarse-to-fine stages "
           "from this correspondence distance, halved down to the normal one (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.start_distance));
+  t.Bool("registration.restart_from_stamps",
+         "a scan more than 1.5 intervals after the last: the velocity step once per interval "
+         "elapsed, then the start path",
+         PLUCKER_OPTION_MEMBER(odometry.restart_from_stamps));
+  t.Value("registration.restart_min_plane_match", "",
+          "fewer plane points matched (fraction): registered again through the start path (0: "
+          "never)",
+          Between(0.0, 1.0), PLUCKER_OPTION_MEMBER(odometry.restart_min_plane_match));
   t.Value("degeneracy.threshold", "",
           "a translation is degenerate when its eigen-gap ratio is below this", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.degeneracy_threshold));

@@ -8,7 +8,6 @@
 #include <random>
 
 #include "plucker/lidar/sensor_check.h"
-#include "plucker/lidar/sim_test_utils.h"
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
@@ -20,7 +19,8 @@ namespace {
 LidarScan Simulate(const sensor::LidarModel& m, bool distortion = false) {
   const sim::LidarScene scene = sim::MakeUrbanScene();
   const sim::VehicleTrajectory trajectory(scene.route);
-  return sim::LidarSimulator(scene, SimOptionsFor(m, distortion)).Scan(trajectory, 3.0, 0);
+  return sim::LidarSimulator(scene, sim::LidarSimOptionsFor(m, 0.01, distortion))
+      .Scan(trajectory, 3.0, 0);
 }
 
 // A ground plane z = -1.7 (10 x 10 m), a vertical pole at (5, 0) and random clutter, shuffled:

@@ -236,6 +236,7 @@ class LidarOdometry::Impl {
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
   int registered_streak = 0;  // consecutive registered frames up to the last one (the first: 1)
+  double stamp = 0.0;         // of the scan being processed
 
   // Deskewing: the first scan seeds the map raw, kept here (at T_w_s_seed) until the next one.
   std::optional<ScanFeatures> seed;
@@ -258,6 +259,32 @@ SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity) {
   return T_w_s_prev * T_s_prev2_s_prev;
 }
 
+SE3d PredictPoseAt(const std::vector<SE3d>& T_w_s, const std::vector<double>& stamps, double stamp,
+                   bool constant_velocity, int* steps) {
+  *steps = 1;
+  const std::size_t n = T_w_s.size();
+  if (n < 2 || !constant_velocity || stamps.size() != n)
+    return PredictPose(T_w_s, constant_velocity);
+  const double interval = stamps[n - 1] - stamps[n - 2], elapsed = stamp - stamps[n - 1];
+  if (!(interval > 0.0 && elapsed > 0.0)) return PredictPose(T_w_s, constant_velocity);
+  // The last motion spans m scan periods (after a gap), the coming one `steps` periods.
+  const int m = interval > 1.5 * elapsed
+                    ? static_cast<int>(std::min(std::round(interval / elapsed), 1000.0))
+                    : 1;
+  const double period = interval / m;
+  if (elapsed > 1.5 * period)
+    *steps = static_cast<int>(std::min(std::round(elapsed / period), 1000.0));
+  if (m == 1 && *steps == 1) return PredictPose(T_w_s, constant_velocity);
+  SE3d T_step = T_w_s[n - 2].Inverse() * T_w_s[n - 1];  // over m periods: its m-th root
+  if (m > 1) {  // a constant twist: t_m = sum_k R^k t ~ m R^((m - 1) / 2) t
+    const Eigen::Vector3d w = LogSO3(T_step.rotation()) / m;
+    T_step = SE3d(ExpSO3<double>(w), ExpSO3<double>(-0.5 * (m - 1) * w) * T_step.translation() / m);
+  }
+  SE3d T_w_s_pred = T_w_s[n - 1];
+  for (int k = 0; k < *steps; ++k) T_w_s_pred = T_w_s_pred * T_step;
+  return T_w_s_pred;
+}
+
 void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vector3d>* edges,
                     std::vector<Eigen::Vector3d>* planes, VoxelMap* edge_map, VoxelMap* plane_map) {
   const Eigen::Matrix3d R_w_s = T_w_s.RotationMatrix();
@@ -271,12 +298,16 @@ void UpdateLocalMap(const SE3d& T_w_s, bool remove_far, std::vector<Eigen::Vecto
   plane_map->RemoveFar(t_w_s);
 }
 
-FrameResult LidarOdometry::SkipFrame(const std::string& reason) {
+FrameResult LidarOdometry::SkipFrame(const std::string& reason, double stamp) {
   FrameResult result;  // ok = false
   result.error = reason;
   impl_->registered_streak = 0;
-  result.T_w_s = PredictPose(poses_, options_.constant_velocity);
+  int steps = 1;
+  result.T_w_s = options_.restart_from_stamps
+                     ? PredictPoseAt(poses_, stamps_, stamp, options_.constant_velocity, &steps)
+                     : PredictPose(poses_, options_.constant_velocity);
   poses_.push_back(result.T_w_s);
+  stamps_.push_back(stamp);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
   return result;
 }
@@ -298,7 +329,12 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   // The first scan is not registered: all its features seed the map (a one-scan map of the
   // capped features is too sparse for the 1 m search of the next scan at speed).
   const bool seed_all = poses_.empty();
-  SE3d T_w_s_pred = PredictPose(poses_, options_.constant_velocity);
+  int steps = 1;  // > 1 after a gap in the scan times: the start path (RegisterToMap)
+  SE3d T_w_s_pred = options_.restart_from_stamps ? PredictPoseAt(poses_, stamps_, scan.timestamp,
+                                                                 options_.constant_velocity, &steps)
+                                                 : PredictPose(poses_, options_.constant_velocity);
+  if (steps > 1) impl_->registered_streak = 0;
+  impl_->stamp = scan.timestamp;
   Extractors x{&impl_->feature_extractor};
   if (impl_->generic && !(deskew && has_time)) x.geometric = &impl_->geometric_extractor;
   if (impl_->generic && deskew && has_time) {  // the sweep motion: constant velocity, or search
@@ -310,7 +346,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   }
   if (!ExtractScanFeatures(scan, options_, deskew, seed_all, x, &features, &error)) {
     Notify(observer, Stage::kDone);
-    return SkipFrame(error);
+    return SkipFrame(error, scan.timestamp);
   }
   FrameResult result;
   result.features = features.stats;
@@ -354,8 +390,25 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
     return;
   const bool start = impl_->registered_streak < 2 && o.start_distance > 0.0;
   const SE3d T_w_s_anchor = start ? RegisterStart(observer, features, result) : T_w_s_pred;
-  if (!RunRounds(o, edge_map_, plane_map_, T_w_s_anchor, start, observer, features, result))
-    result->T_w_s = T_w_s_anchor;
+  const bool ok =
+      RunRounds(o, edge_map_, plane_map_, T_w_s_anchor, start, observer, features, result);
+  if (!ok) result->T_w_s = T_w_s_anchor;
+  // A poor fit from the prediction (a restart the gap check missed): again through the start.
+  const bool poor =
+      !ok || result->plane_correspondences <
+                 o.restart_min_plane_match * static_cast<double>(result->plane_points);
+  if (start || !poor || o.start_distance <= 0.0 || o.restart_min_plane_match <= 0.0) return;
+  const FeatureStats stats = result->features;
+  *result = FrameResult();
+  result->T_w_s = T_w_s_pred;
+  result->features = stats;
+  result->deskewed = deskew && !impl_->seed;
+  result->edge_points = static_cast<int>(features->edges.size());
+  result->plane_points = static_cast<int>(features->planes.size());
+  result->restarted = true;
+  const SE3d T_w_s_start = RegisterStart(observer, features, result);
+  if (!RunRounds(o, edge_map_, plane_map_, T_w_s_start, true, observer, features, result))
+    result->T_w_s = T_w_s_start;
 }
 
 LidarOdometryOptions StartStageOptions(const LidarOdometryOptions& o, double d) {
@@ -493,6 +546,7 @@ void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* 
   const bool registered = result->ok && (result->association_rounds > 0 || poses_.empty());
   impl_->registered_streak = registered ? impl_->registered_streak + 1 : 0;
   poses_.push_back(result->T_w_s);
+  stamps_.push_back(impl_->stamp);
   result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
 }
 

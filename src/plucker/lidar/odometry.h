@@ -84,8 +84,17 @@ struct LidarOdometryOptions {
   // edge sigmas, the plane test and the convergence values scale with d (odometry.cc,
   // StartStageOptions). 0: off.
   double start_distance = 4.0;  // m
-  int map_cleanup_every = 10;   // frames between RemoveFar calls
-  int num_threads = 1;          // threads (TBB) for features and correspondences
+  // Restart after a gap (scans missing without a skipped frame, seen from the scan timestamps):
+  // when a scan comes more than 1.5 scan intervals after the last one, the constant-velocity
+  // step is applied once per interval elapsed and the scan takes the start path (with
+  // restart_from_stamps; PredictPoseAt). And a scan
+  // whose normal registration matches fewer than this fraction of its plane points (the scans
+  // of the KITTI extracts match 0.48-0.63) is registered again through the start path from the
+  // prediction (0: never).
+  bool restart_from_stamps = true;
+  double restart_min_plane_match = 0.25;
+  int map_cleanup_every = 10;  // frames between RemoveFar calls
+  int num_threads = 1;         // threads (TBB) for features and correspondences
 };
 
 struct FrameResult {
@@ -96,6 +105,7 @@ struct FrameResult {
   int edge_points = 0, plane_points = 0;                    // features used
   int edge_correspondences = 0, plane_correspondences = 0;  // of the last round
   int association_rounds = 0;                               // rounds run
+  bool restarted = false;     // a poor fit from the prediction was redone by the start path
   int start_rounds = 0;       // rounds of the coarse start stages (start_distance), 0 when none ran
   int solver_iterations = 0;  // solver iterations over all rounds
   double final_cost = 0.0;
@@ -121,8 +131,9 @@ class LidarOdometry {
   // to avoid it).
   FrameResult ProcessScan(const LidarScan& scan, const StageObserver& observer = nullptr);
   FrameResult ProcessScan(LidarScan&& scan, const StageObserver& observer = nullptr);
-  // Records a frame that could not be read: its pose is the constant-velocity prediction.
-  FrameResult SkipFrame(const std::string& reason);
+  // Records a frame that could not be read: its pose is the constant-velocity prediction (at
+  // `stamp`, the frame's time in seconds, when known: see PredictPose).
+  FrameResult SkipFrame(const std::string& reason, double stamp = 0.0);
 
   const std::vector<SE3d>& poses() const { return poses_; }
   const VoxelMap& edge_map() const { return edge_map_; }
@@ -145,13 +156,22 @@ class LidarOdometry {
   void RebuildMapFromSeed(const SE3d& T_w_s, ScanFeatures* features);
   LidarOdometryOptions options_;
   VoxelMap edge_map_, plane_map_;
-  std::vector<SE3d> poses_;  // one per processed or skipped frame
+  std::vector<SE3d> poses_;     // one per processed or skipped frame
+  std::vector<double> stamps_;  // their times (s; LidarScan::timestamp, 0 when unknown)
   std::unique_ptr<Impl> impl_;
 };
 
 // Step 1, prediction from the poses so far: T_w_s_prev T_s_prev2_s_prev (constant velocity), the
 // previous pose when constant_velocity is off or only one pose exists, identity for none.
 SE3d PredictPose(const std::vector<SE3d>& T_w_s, bool constant_velocity);
+// The same at time `stamp` given the poses' times: the last motion T_s_prev2_s_prev spans m
+// scan periods (m = round((t_prev - t_prev2) / (stamp - t_prev)) when that is 2 or more, e.g. the
+// first scan after a gap, else 1); its m-th root (rotation angle and translation / m) is applied
+// n times, n = round((stamp - t_prev) / period) when that is 2 or more (a gap of n - 1 scans
+// never given, e.g. deleted files), else once; *steps = n. Unknown (0) or non-increasing times,
+// or m = n = 1, give PredictPose.
+SE3d PredictPoseAt(const std::vector<SE3d>& T_w_s, const std::vector<double>& stamps, double stamp,
+                   bool constant_velocity, int* steps);
 
 // The options of the coarse start stage at correspondence distance d (LidarOdometryOptions::
 // start_distance): maps of voxel size d, the map spacing, sigmas, plane test and convergence

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "plucker/lidar/odometry.h"
-#include "plucker/lidar/sim_test_utils.h"
 #include "plucker/sensor/lidar_model.h"
 #include "plucker/sim/lidar_scene.h"
 #include "plucker/sim/lidar_sim.h"
@@ -28,7 +27,7 @@ double MeanRelativeError(const sensor::LidarModel& model, Time time, DeskewMode 
   sim::VehicleTrajectoryOptions motion;
   motion.speed_variation = speed_variation;
   const sim::VehicleTrajectory trajectory(scene.route, motion);
-  const sim::LidarSimOptions o = SimOptionsFor(model, true);
+  const sim::LidarSimOptions o = sim::LidarSimOptionsFor(model, 0.01, true);
   const sim::LidarSimulator simulator(scene, o);
   LidarOdometryOptions options;
   options.sensor = model.spinning ? "auto" : "generic";

@@ -129,6 +129,24 @@ SE3d VehicleTrajectory::T_w_s(double t) const {
   return SE3d(R, Eigen::Vector3d(p.x(), p.y(), options_.mount_height));
 }
 
+LidarSimOptions LidarSimOptionsFor(const sensor::LidarModel& sensor, double range_noise_sigma,
+                                   bool distortion, std::uint64_t seed) {
+  LidarSimOptions options;
+  options.elevation_rad = sensor.elevation_rad;
+  options.azimuth_steps = sensor.azimuth_steps;
+  options.rate_hz = sensor.rate_hz;
+  options.min_range = sensor.min_range;
+  options.max_range = sensor.max_range;
+  options.range_noise_sigma = range_noise_sigma;
+  options.distortion = distortion;
+  options.spinning = sensor.spinning;
+  options.min_elevation_rad = sensor.min_elevation_rad;
+  options.max_elevation_rad = sensor.max_elevation_rad;
+  options.rays_per_scan = sensor.rays_per_scan;
+  options.seed = seed;
+  return options;
+}
+
 LidarSimulator::LidarSimulator(const LidarScene& scene, const LidarSimOptions& options)
     : scene_(scene), options_(options) {
   const bool pattern_ok =

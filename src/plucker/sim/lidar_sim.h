@@ -1,8 +1,8 @@
 // Simulation of a spinning multi-beam LiDAR on a vehicle driving through a LidarScene. No I/O.
 //
 // The sensor frame s: x forward, y left, z up, mounted `mount_height` above the ground on the
-// vehicle. The beam pattern is given as plain numbers (apps/plucker/lidar_sim_options.h copies
-// them from a sensor::LidarModel).
+// vehicle. The beam pattern is given as plain numbers (LidarSimOptionsFor copies them from a
+// sensor::LidarModel).
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/lidar_model.h"
 #include "plucker/sensor/lidar_scan.h"
 #include "plucker/sim/lidar_scene.h"
 
@@ -73,6 +74,11 @@ struct LidarSimOptions {
   int rays_per_scan = 0;
   std::uint64_t seed = 1;
 };
+
+// The options that simulate `sensor` (beam pattern, rate, ranges, spinning or not) with Gaussian
+// range noise and, if `distortion`, per-firing poses and point times.
+LidarSimOptions LidarSimOptionsFor(const sensor::LidarModel& sensor, double range_noise_sigma,
+                                   bool distortion, std::uint64_t seed = 1);
 
 struct LidarSimStats {
   std::size_t rays = 0, hits = 0;
