@@ -713,7 +713,7 @@ expect bag-info-not-a-bag nonzero "est.txt: not a ROS 1 bag" -- "$PLUCKER" bag i
 # ROS 2 .db3 bags (docs/bags.md#ros-2-bags): written by the same command (OUT ends in .db3), read
 # by the same --bag, byte-identical poses; a rosbag2 folder (metadata.yaml + .db3) reads the same.
 expect bag-from-lidar-db3 0 "12 PointCloud2 messages" -- \
-  "$PLUCKER" bag from-lidar "$T/sim" "$T/sim.db3" --topic /velodyne_points --quiet
+  "$PLUCKER" bag from-lidar "$T/sim" "$T/sim.db3" --topic /velodyne_points
 expect bag-info-db3 0 "/velodyne_points +sensor_msgs/msg/PointCloud2 +12 msgs" -- \
   "$PLUCKER" bag info "$T/sim.db3"
 expect lidar-db3 0 "" -- "$PLUCKER" lidar --bag "$T/sim.db3" --topic /velodyne_points --quiet \

@@ -370,7 +370,8 @@ bool BagReader::Next(MessageRef* message) {
   if (stamp < best->last_stamp) ++d.stats.out_of_order;
   best->last_stamp = stamp;
   ++d.stats.messages;
-  ++best->it, ++best->index;
+  if (!best->cursor) ++best->it;
+  ++best->index;
   d.Load(best);
   if (message) {
     message->topic = c.topic, message->type = c.type, message->index = c.index;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -22,12 +23,11 @@ std::string ErrorOf(const std::vector<std::uint8_t>& bytes) {
 // A hand-built payload: header 00 01 00 00, uint8 7, (3 pad), string "abcd" (length 5 with the
 // NUL), (3 pad: offset 13 -> 16), float64 0.5, uint16 9, int32 -3 after 2 pad.
 std::vector<std::uint8_t> HandBuilt() {
-  std::vector<std::uint8_t> b = {0x00, 0x01, 0x00, 0x00, 7,   0,   0, 0, 5, 0,
-                                 0,    0,    'a',  'b',  'c', 'd', 0, 0, 0, 0};
+  std::vector<std::uint8_t> b = {0x00, 0x01, 0x00, 0x00, 7, 0, 0, 0, 5,    0,    0,    0,
+                                 'a',  'b',  'c',  'd',  0, 0, 0, 0, 0,    0,    0,    0,
+                                 0,    0,    0,    0,    9, 0, 0, 0, 0xfd, 0xff, 0xff, 0xff};
   const double half = 0.5;
-  const std::uint8_t* h = reinterpret_cast<const std::uint8_t*>(&half);
-  b.insert(b.end(), h, h + 8);
-  b.insert(b.end(), {9, 0, 0, 0, 0xfd, 0xff, 0xff, 0xff});
+  std::memcpy(b.data() + 20, &half, 8);
   return b;
 }
 

@@ -66,9 +66,9 @@ TEST(Db3Reader, InfoStreamAndDecodeAsForRos1) {
   BagReader a(db3), b(ros1);
   EXPECT_EQ(a.info().format, "rosbag2 SQLite3 (.db3)");
   ASSERT_EQ(a.info().topics.size(), 4u);
-  EXPECT_EQ(a.info().topics[2].topic, "/imu");
-  EXPECT_EQ(a.info().topics[2].type, "sensor_msgs/msg/Imu");
-  EXPECT_EQ(a.info().topics[2].messages, 30u);
+  EXPECT_EQ(a.info().topics[1].topic, "/imu");
+  EXPECT_EQ(a.info().topics[1].type, "sensor_msgs/msg/Imu");
+  EXPECT_EQ(a.info().topics[1].messages, 30u);
   EXPECT_EQ(a.info().messages, b.info().messages);
   EXPECT_EQ(a.info().start_s, b.info().start_s);
   EXPECT_EQ(a.info().end_s, b.info().end_s);
