@@ -8,6 +8,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libnanoflann-dev robin-map-dev nlohmann-json3-dev libtbb-dev
   libopencv-dev libopencv-contrib-dev  # images, line detectors and descriptors (vision, io)
   librosbag-storage-dev libsensor-msgs-dev  # ROS 1 bags without ROS (bag)
+  libsqlite3-dev  # ROS 2 .db3 bags (bag)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
   pybind11-dev python3-dev python3-numpy  # the plucker Python package (python/)

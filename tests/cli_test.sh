@@ -721,6 +721,29 @@ expect bag-info-truncated nonzero "cut.bag: truncated: its index starts at byte"
 expect lidar-bag-truncated nonzero "cut.bag: truncated" -- \
   "$PLUCKER" lidar --bag "$T/cut.bag" --topic /velodyne_points --out "$T/x.txt"
 expect bag-info-not-a-bag nonzero "est.txt: not a ROS 1 bag" -- "$PLUCKER" bag info "$T/est.txt"
+# ROS 2 .db3 bags (docs/bags.md#ros-2-bags): written by the same command (OUT ends in .db3), read
+# by the same --bag, byte-identical poses; a rosbag2 folder (metadata.yaml + .db3) reads the same.
+expect bag-from-lidar-db3 0 "12 PointCloud2 messages" -- \
+  "$PLUCKER" bag from-lidar "$T/sim" "$T/sim.db3" --topic /velodyne_points
+expect bag-info-db3 0 "/velodyne_points +sensor_msgs/msg/PointCloud2 +12 msgs" -- \
+  "$PLUCKER" bag info "$T/sim.db3"
+expect lidar-db3 0 "" -- "$PLUCKER" lidar --bag "$T/sim.db3" --topic /velodyne_points --quiet \
+  --out "$T/est_db3.txt" --tum "$T/est_db3.tum"
+expect lidar-db3-same-poses 0 "" -- cmp "$T/est_dir.txt" "$T/est_db3.txt"
+expect lidar-db3-same-tum 0 "" -- cmp "$T/est_dir.tum" "$T/est_db3.tum"
+mkdir -p "$T/rosbag2_sim"
+cp "$T/sim.db3" "$T/rosbag2_sim/rosbag2_sim_0.db3"
+printf 'rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  compression_format: ""\n' \
+  > "$T/rosbag2_sim/metadata.yaml"
+expect lidar-rosbag2-folder 0 "" -- "$PLUCKER" lidar --bag "$T/rosbag2_sim" --topic \
+  /velodyne_points --stamp receive --quiet --out "$T/est_db3_r.txt"
+expect lidar-rosbag2-folder-same-poses 0 "" -- cmp "$T/est_bag_r.txt" "$T/est_db3_r.txt"
+expect lidar-db3-no-topic nonzero "sim.db3: no topic /points; the bag has: /velodyne_points \(sensor_msgs/msg/PointCloud2\)" -- \
+  "$PLUCKER" lidar --bag "$T/sim.db3" --topic /points --out "$T/x.txt"
+expect bag-db3-lz4 nonzero "lz4 is for ROS 1 bags" -- \
+  "$PLUCKER" bag from-lidar "$T/sim" "$T/lz4.db3" --lz4
+head -c 5000 "$T/sim.db3" > "$T/cut.db3"
+expect bag-info-db3-truncated nonzero "cut.db3: " -- "$PLUCKER" bag info "$T/cut.db3"
 KITTI_LIDAR="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/../shared/data/kitti-odometry-00/sequences/00"
 if [ -d "$KITTI_LIDAR/velodyne" ]; then
   # The first 4 scans of the KITTI extract (links: nothing copied), with their times and calib.
@@ -734,6 +757,12 @@ if [ -d "$KITTI_LIDAR/velodyne" ]; then
     --frame lidar --quiet --out "$T/k_bag.txt" --tum "$T/k_bag.tum"
   expect lidar-bag-kitti-same-poses 0 "" -- cmp "$T/k_dir.txt" "$T/k_bag.txt"
   expect lidar-bag-kitti-same-tum 0 "" -- cmp "$T/k_dir.tum" "$T/k_bag.tum"
+  expect bag-from-kitti-db3 0 "" -- \
+    "$PLUCKER" bag from-lidar "$T/k00" "$T/k00.db3" --topic /velodyne_points --quiet
+  expect lidar-db3-kitti 0 "" -- "$PLUCKER" lidar --bag "$T/k00.db3" --topic /velodyne_points \
+    --frame lidar --quiet --out "$T/k_db3.txt" --tum "$T/k_db3.tum"
+  expect lidar-db3-kitti-same-poses 0 "" -- cmp "$T/k_dir.txt" "$T/k_db3.txt"
+  expect lidar-db3-kitti-same-tum 0 "" -- cmp "$T/k_dir.tum" "$T/k_db3.tum"
 else
   echo "skip bag-from-kitti, lidar-bag-kitti-*: no KITTI extract at $KITTI_LIDAR"
 fi
@@ -772,6 +801,28 @@ if [ -d "$EUROC_HEAD/mav0" ]; then
   expect vio-bag-receive-stamp 0 "" -- "$PLUCKER" vio "${VB[@]}" --stamp receive --sensor "$CAM0" \
     --imu-sensor "$IMU0" --out "$T/bv_bag_r.tum" --quiet
   expect vio-bag-receive-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_bag_r.tum"
+  # The same as a ROS 2 .db3, and with the images as PNG sensor_msgs/CompressedImage (lossless).
+  "$PLUCKER" bag from-euroc "$T/beuroc" "$T/beuroc.db3" --quiet
+  VD=(--bag "$T/beuroc.db3" --image-topic /cam0/image_raw --imu-topic /imu0)
+  expect vio-db3 0 "" -- "$PLUCKER" vio "${VD[@]}" --sensor "$CAM0" --imu-sensor "$IMU0" \
+    --out "$T/bv_db3.tum" --quiet
+  expect vio-db3-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_db3.tum"
+  expect vio-db3-receive-stamp 0 "" -- "$PLUCKER" vio "${VD[@]}" --stamp receive --sensor "$CAM0" \
+    --imu-sensor "$IMU0" --out "$T/bv_db3_r.tum" --quiet
+  expect vio-db3-receive-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_db3_r.tum"
+  expect bag-info-db3-euroc 0 "/cam0/image_raw +sensor_msgs/msg/Image +40 msgs" -- \
+    "$PLUCKER" bag info "$T/beuroc.db3"
+  expect bag-from-euroc-png 0 "" -- \
+    "$PLUCKER" bag from-euroc "$T/beuroc" "$T/beuroc_png.bag" --compress png --quiet
+  expect vio-bag-png 0 "" -- "$PLUCKER" vio --bag "$T/beuroc_png.bag" --image-topic /cam0/image_raw \
+    --imu-topic /imu0 --sensor "$CAM0" --imu-sensor "$IMU0" --out "$T/bv_png.tum" --quiet
+  expect vio-bag-png-same-tum 0 "" -- cmp "$T/bv_dir.tum" "$T/bv_png.tum"
+  expect bag-info-png 0 "/cam0/image_raw +sensor_msgs/CompressedImage +40 msgs" -- \
+    "$PLUCKER" bag info "$T/beuroc_png.bag"
+  "$PLUCKER" bag from-euroc "$T/beuroc" "$T/beuroc_16.bag" --encoding 16UC1 --quiet
+  expect vio-bag-16uc1 nonzero "beuroc_16.bag: topic /cam0/image_raw, message 0: image encoding '16UC1' is not supported" -- \
+    "$PLUCKER" vio --bag "$T/beuroc_16.bag" --image-topic /cam0/image_raw --imu-topic /imu0 \
+    --sensor "$CAM0" --imu-sensor "$IMU0" --out "$T/x.tum" --quiet
   expect vio-bag-no-topic nonzero "beuroc.bag: no topic /cam1; the bag has: /cam0/image_raw \(sensor_msgs/Image\), /imu0 \(sensor_msgs/Imu\)" -- \
     "$PLUCKER" vio --bag "$T/beuroc.bag" --image-topic /cam1 --imu-topic /imu0 --sensor "$CAM0" \
     --imu-sensor "$IMU0" --out "$T/x.tum"
@@ -842,6 +893,27 @@ if [ -d "$MH05/mav0" ]; then
   expect vo-bag 0 "" -- "$PLUCKER" vo --bag "$T/mh05.bag" --image-topic /cam0/image_raw \
     --sensor "$MCAM0" --out "$T/bvo_bag.txt" --quiet
   expect vo-bag-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_bag.txt"
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05.db3" --quiet
+  expect vo-db3 0 "" -- "$PLUCKER" vo --bag "$T/mh05.db3" --image-topic /cam0/image_raw \
+    --sensor "$MCAM0" --out "$T/bvo_db3.txt" --quiet
+  expect vo-db3-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_db3.txt"
+  # CompressedImage: PNG is lossless (the folder's poses); JPEG decodes and runs; bgr8 converts.
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05_png.db3" --compress png --quiet
+  expect vo-db3-png 0 "" -- "$PLUCKER" vo --bag "$T/mh05_png.db3" --image-topic /cam0/image_raw \
+    --sensor "$MCAM0" --out "$T/bvo_png.txt" --quiet
+  expect vo-db3-png-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_png.txt"
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05_jpg.bag" --compress jpeg --quiet
+  expect vo-bag-jpeg 0 "" -- "$PLUCKER" vo --bag "$T/mh05_jpg.bag" --image-topic /cam0/image_raw \
+    --sensor "$MCAM0" --out "$T/bvo_jpg.txt" --quiet
+  expect vo-bag-jpeg-all-frames 0 "^50 " -- wc -l "$T/bvo_jpg.txt"
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05_bgr.bag" --encoding bgr8 --quiet
+  expect vo-bag-bgr8 0 "" -- "$PLUCKER" vo --bag "$T/mh05_bgr.bag" --image-topic /cam0/image_raw \
+    --sensor "$MCAM0" --out "$T/bvo_bgr.txt" --quiet
+  expect vo-bag-bgr8-same-poses 0 "" -- cmp "$T/bvo_dir.txt" "$T/bvo_bgr.txt"
+  "$PLUCKER" bag from-euroc "$T/mh05" "$T/mh05_16.db3" --encoding 16UC1 --quiet
+  expect vo-db3-16uc1 nonzero "mh05_16.db3: topic /cam0/image_raw, message 0: image encoding '16UC1' is not supported" -- \
+    "$PLUCKER" vo --bag "$T/mh05_16.db3" --image-topic /cam0/image_raw --sensor "$MCAM0" \
+    --out "$T/x.txt" --quiet
   expect vo-bag-needs-topic nonzero "needs --image-topic" -- \
     "$PLUCKER" vo --bag "$T/mh05.bag" --sensor "$MCAM0" --out "$T/x.txt"
   expect vo-bag-draw nonzero "--draw needs --images" -- "$PLUCKER" vo --bag "$T/mh05.bag" \

@@ -1,6 +1,6 @@
-// `plucker bag`: ROS 1 bags without ROS (docs/bags.md). `bag info` lists what a bag holds (as
-// `rosbag info`); `bag from-lidar` writes a LiDAR folder (KITTI, simulator, PCD) as a bag of
-// PointCloud2 messages, so that `plucker lidar --bag` can be checked against `--data`.
+// `plucker bag`: ROS 1 bags and ROS 2 .db3 bags without ROS (docs/bags.md). `bag info` lists what a
+// bag holds (as `rosbag info`); `bag from-lidar` writes a LiDAR folder (KITTI, simulator, PCD) as a
+// bag of PointCloud2 messages, so that `plucker lidar --bag` can be checked against `--data`.
 
 #include <iomanip>
 #include <iostream>
@@ -26,7 +26,11 @@ int RunInfo(const std::string& path) {
   const bag::BagReader reader(path);
   const bag::BagInfo& info = reader.info();
   std::cout << "path:     " << info.path << "\n"
-            << "version:  " << (info.version == 200 ? "2.0" : "other") << "\n"
+            << "format:   " << info.format
+            << (info.version == 200 ? " 2.0"
+                : info.version > 0  ? " (other version)"
+                                    : "")
+            << "\n"
             << "size:     " << info.bytes << " bytes\n"
             << "duration: " << Seconds(info.end_s - info.start_s) << " s\n"
             << "start:    " << Seconds(info.start_s) << "\n"
@@ -77,12 +81,13 @@ int RunFromLidar(const FromLidarArgs& a) {
 }  // namespace
 
 void RegisterBag(CLI::App& app, int* exit_code) {
-  CLI::App* cmd = app.add_subcommand("bag", "ROS 1 bags without ROS: info, write from folders");
+  CLI::App* cmd = app.add_subcommand(
+      "bag", "ROS 1 and ROS 2 (.db3) bags without ROS: info, write from folders");
   cmd->require_subcommand(1);
 
   auto path = std::make_shared<std::string>();
   CLI::App* info = cmd->add_subcommand("info", "Topics, types, counts and time spans of a bag");
-  info->add_option("file", *path, "The .bag file")->required();
+  info->add_option("file", *path, "The .bag, .db3 or rosbag2 folder")->required();
   info->callback(
       [path, exit_code]() { RunGuarded("bag info", exit_code, [&] { return RunInfo(*path); }); });
 
@@ -90,10 +95,11 @@ void RegisterBag(CLI::App& app, int* exit_code) {
   CLI::App* from = cmd->add_subcommand(
       "from-lidar", "Write a LiDAR folder (what `plucker lidar --data` reads) as PointCloud2");
   from->add_option("data", args->data, "Sequence folder (KITTI, simulator, PCD)")->required();
-  from->add_option("out", args->out, "Output .bag (not overwritten)")->required();
+  from->add_option("out", args->out, "Output .bag, or .db3 for a ROS 2 bag (not overwritten)")
+      ->required();
   from->add_option("--sequence", args->sequence, "KITTI sequence under DATA/sequences");
   from->add_option("--topic", args->topic, "Topic name (default /points)");
-  from->add_flag("--lz4", args->lz4, "LZ4-compressed chunks");
+  from->add_flag("--lz4", args->lz4, "LZ4-compressed chunks (ROS 1 bags)");
   from->add_flag("--quiet", args->quiet, "No progress output");
   from->callback([args, exit_code]() {
     RunGuarded("bag from-lidar", exit_code, [&] { return RunFromLidar(*args); });

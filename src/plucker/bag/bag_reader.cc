@@ -14,7 +14,10 @@
 #include <limits>
 #include <map>
 
+#include "plucker/bag/cdr.h"
+#include "plucker/bag/db3_internal.h"
 #include "plucker/bag/point_cloud.h"
+#include "plucker/bag/ros2_messages_internal.h"
 
 namespace plucker {
 namespace bag {
@@ -33,9 +36,9 @@ int CheckFileHeader(const std::string& path, std::uint64_t file_bytes) {
   const std::string magic = "#ROSBAG V2.0\n";
   if (head.compare(0, 8, "#ROSBAG ") != 0) {
     std::string hint = "";
-    if (head.compare(0, 15, "SQLite format 3") == 0 || head.compare(1, 4, "MCAP") == 0)
-      hint = " (a ROS 2 bag: only ROS 1 bags are read, see docs/bags.md)";
-    throw BagError(path + ": not a ROS 1 bag (no #ROSBAG header)" + hint);
+    if (head.compare(1, 4, "MCAP") == 0)
+      hint = " (a ROS 2 MCAP bag: only ROS 1 .bag and ROS 2 .db3 are read, see docs/bags.md)";
+    throw BagError(path + ": not a ROS 1 bag (no #ROSBAG header) nor a ROS 2 .db3" + hint);
   }
   if (head.compare(0, magic.size(), magic) != 0) return 0;  // V1.2: left to rosbag_storage
   // Record: int32 header length, fields "int32 length, name=value", int32 data length, data.
@@ -81,6 +84,23 @@ double ToSeconds(const ros::Time& t) {
   return static_cast<double>(t.sec) + t.nsec / 1e9;
 }
 
+ros::Time FromNanoseconds(std::int64_t ns) {
+  ros::Time t;
+  t.sec = static_cast<std::uint32_t>(ns / 1000000000);
+  t.nsec = static_cast<std::uint32_t>(ns % 1000000000);
+  return t;
+}
+
+// A rosbag2 folder, or a file that starts as SQLite does.
+bool IsDb3(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return true;
+  std::ifstream in(path, std::ios::binary);
+  char head[16] = {};
+  in.read(head, sizeof(head));
+  return in.gcount() == 16 && std::memcmp(head, "SQLite format 3", 16) == 0;
+}
+
 std::int64_t ToNanoseconds(const ros::Time& t) {
   return static_cast<std::int64_t>(t.sec) * 1000000000 + static_cast<std::int64_t>(t.nsec);
 }
@@ -90,6 +110,7 @@ struct TopicStream {
   std::string topic, type;
   std::unique_ptr<rosbag::View> view;
   rosbag::View::iterator it;
+  std::unique_ptr<Db3Cursor> cursor;  // a .db3 bag: instead of the view
   std::size_t index = 0;
   bool valid = false;
   double receive_s = 0.0, header_s = 0.0, last_stamp = -std::numeric_limits<double>::infinity();
@@ -111,6 +132,7 @@ StampSource StampSourceFromName(const std::string& name) {
 struct BagReader::Impl {
   std::string path;
   rosbag::Bag bag;
+  std::unique_ptr<Db3File> db3;  // set for a ROS 2 bag (.db3 or a rosbag2 folder)
   BagInfo info;
   StampSource stamp = StampSource::kHeader;
   std::vector<std::unique_ptr<TopicStream>> streams;
@@ -125,6 +147,10 @@ struct BagReader::Impl {
   // Decodes the message at s.it, skipping (and counting) unreadable ones; s.valid = false at end.
   void Load(TopicStream* s) {
     s->valid = false;
+    if (s->cursor) {
+      LoadDb3(s);
+      return;
+    }
     for (; s->it != s->view->end(); ++s->it, ++s->index) {
       try {
         const rosbag::MessageInstance& m = *s->it;
@@ -156,6 +182,64 @@ struct BagReader::Impl {
     }
   }
 
+  template <typename T>
+  bool DecodeCdr(const std::uint8_t* data, std::size_t size, TopicStream* s,
+                 boost::shared_ptr<const T>* out) {
+    auto m = boost::make_shared<T>();
+    try {
+      ros2::Decode(data, size, m.get());
+    } catch (const CdrError& e) {
+      Warn(Where(*s) + ": cannot deserialise as " + ros2::Ros2Type(s->type) + ": " + e.what());
+      return false;
+    }
+    s->header_s = ToSeconds(m->header.stamp);
+    s->header_ns = ToNanoseconds(m->header.stamp);
+    *out = m;
+    return true;
+  }
+
+  void LoadDb3(TopicStream* s) {
+    std::int64_t ns = 0;
+    const std::uint8_t* data = nullptr;
+    std::size_t size = 0;
+    for (; s->cursor->Next(&ns, &data, &size); ++s->index) {
+      s->cloud.reset(), s->imu.reset(), s->image.reset(), s->compressed.reset();
+      if (ns < 0) {
+        Warn(Where(*s) + ": negative receive timestamp " + std::to_string(ns));
+        continue;
+      }
+      s->receive_s = ToSeconds(FromNanoseconds(ns));
+      s->receive_ns = ns;
+      if ((s->type == kPointCloud2 && DecodeCdr(data, size, s, &s->cloud)) ||
+          (s->type == kImu && DecodeCdr(data, size, s, &s->imu)) ||
+          (s->type == kImage && DecodeCdr(data, size, s, &s->image)) ||
+          (s->type == kCompressedImage && DecodeCdr(data, size, s, &s->compressed))) {
+        s->valid = true;
+        return;
+      }
+    }
+  }
+
+  void OpenDb3() {
+    const std::string file = ResolveDb3(path);
+    db3 = std::make_unique<Db3File>(file);
+    std::error_code ec;
+    info.bytes = std::filesystem::file_size(file, ec);
+    info.format = "rosbag2 SQLite3 (.db3)";
+    for (const Db3Topic& t : db3->topics()) {
+      TopicInfo i;
+      i.topic = t.name, i.type = t.type, i.messages = t.messages;
+      i.first_s = ToSeconds(FromNanoseconds(std::max<std::int64_t>(t.first_ns, 0)));
+      i.last_s = ToSeconds(FromNanoseconds(std::max<std::int64_t>(t.last_ns, 0)));
+      if (i.messages > 0) {
+        info.start_s = info.messages == 0 ? i.first_s : std::min(info.start_s, i.first_s);
+        info.end_s = info.messages == 0 ? i.last_s : std::max(info.end_s, i.last_s);
+      }
+      info.messages += t.messages;
+      info.topics.push_back(i);
+    }
+  }
+
   void Warn(const std::string& w) {
     ++stats.unreadable;
     if (warnings.size() < kMaxWarnings) warnings.push_back(w);
@@ -181,8 +265,12 @@ BagReader::BagReader(const std::string& path) : impl_(new Impl) {
   d.path = path;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw BagError(path + ": no such file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw BagError(path + ": not a file");
   d.info.path = path;
+  if (IsDb3(path)) {
+    d.OpenDb3();
+    return;
+  }
+  if (!std::filesystem::is_regular_file(path, ec)) throw BagError(path + ": not a file");
   d.info.bytes = std::filesystem::file_size(path, ec);
   d.info.version = CheckFileHeader(path, d.info.bytes);
   try {
@@ -233,12 +321,24 @@ void BagReader::Select(const std::vector<TopicRequest>& requests, StampSource st
       throw BagError(d.path + ": no topic " + r.topic +
                      "; the bag has: " + (have.empty() ? "no topics" : Join(have, ", ")));
     }
-    if (std::find(r.types.begin(), r.types.end(), t->type) == r.types.end())
+    const std::string type = ros2::Ros1Type(t->type);  // a .db3 names "sensor_msgs/msg/Imu"
+    if (std::find(r.types.begin(), r.types.end(), type) == r.types.end())
       throw BagError(d.path + ": topic " + r.topic + " has type " + t->type + ", expected " +
                      Join(r.types, " or "));
     auto s = std::make_unique<TopicStream>();
     s->topic = r.topic;
-    s->type = t->type;
+    s->type = type;
+    if (d.db3) {
+      const Db3Topic& db = *std::find_if(d.db3->topics().begin(), d.db3->topics().end(),
+                                         [&r](const Db3Topic& i) { return i.name == r.topic; });
+      if (db.format != "cdr")
+        throw BagError(d.path + ": topic " + r.topic + " is serialised as '" + db.format +
+                       "', only cdr is read");
+      s->cursor = d.db3->Open(db.id);
+      d.Load(s.get());
+      d.streams.push_back(std::move(s));
+      continue;
+    }
     try {
       s->view = std::make_unique<rosbag::View>(d.bag, rosbag::TopicQuery(r.topic));
       s->it = s->view->begin();
@@ -270,7 +370,8 @@ bool BagReader::Next(MessageRef* message) {
   if (stamp < best->last_stamp) ++d.stats.out_of_order;
   best->last_stamp = stamp;
   ++d.stats.messages;
-  ++best->it, ++best->index;
+  if (!best->cursor) ++best->it;
+  ++best->index;
   d.Load(best);
   if (message) {
     message->topic = c.topic, message->type = c.type, message->index = c.index;

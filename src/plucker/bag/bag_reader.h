@@ -1,4 +1,5 @@
-// ROS 1 bags read with Debian's rosbag_storage (no ROS master, nothing to source): what a bag
+// ROS 1 bags read with Debian's rosbag_storage (no ROS master, nothing to source) and ROS 2
+// `.db3` bags read with SQLite3 and the layer's CDR decoder (cdr.h): what a bag
 // holds (`plucker bag info`), and a stream over chosen topics in time order whose messages are
 // decoded into plucker's sensor types. Streaming: the bag's index is in memory (a few tens of
 // bytes per message), message data is read one message per topic at a time.
@@ -45,7 +46,8 @@ struct TopicInfo {
 struct BagInfo {
   std::string path;
   std::uint64_t bytes = 0;
-  int version = 0;  // 200 for "#ROSBAG V2.0"
+  int version = 0;  // 200 for "#ROSBAG V2.0"; 0 for a ROS 2 bag
+  std::string format = "ROS 1 bag";
   std::size_t messages = 0;
   double start_s = 0.0, end_s = 0.0;  // receive times
   std::vector<TopicInfo> topics;      // sorted by name
@@ -81,8 +83,10 @@ struct TopicRequest {
 
 class BagReader {
  public:
-  // Opens and indexes the bag. Throws BagError: no such file, not a ROS 1 bag (a ROS 2 bag is
-  // named as such), unindexed (how to reindex), truncated, or unreadable.
+  // Opens and indexes the bag: a ROS 1 `.bag`, a ROS 2 `.db3` (SQLite3, CDR payloads) or a
+  // rosbag2 folder (metadata.yaml and one .db3), picked by the content. Throws BagError: no such
+  // file, not a bag (an MCAP is named as such), unindexed (how to reindex), truncated, not a
+  // rosbag2 database, or unreadable.
   explicit BagReader(const std::string& path);
   ~BagReader();
   BagReader(const BagReader&) = delete;

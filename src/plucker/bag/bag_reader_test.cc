@@ -276,8 +276,12 @@ TEST(BagReader, UnindexedTruncatedAndForeignFilesAreNamed) {
 
   const std::string p5 = (dir / "rosbag2.db3").string();
   WriteAll(p5, std::string("SQLite format 3") + std::string(100, '\0'));
-  EXPECT_NE(ErrorOf(p5).find("not a ROS 1 bag (no #ROSBAG header) (a ROS 2 bag"), std::string::npos)
-      << ErrorOf(p5);
+  EXPECT_NE(ErrorOf(p5).find(p5 + ": not an SQLite database"), std::string::npos) << ErrorOf(p5);
+  const std::string p6 = (dir / "rosbag2.mcap").string();
+  WriteAll(p6, std::string("\x89MCAP0\r\n") + std::string(100, '\0'));
+  EXPECT_NE(ErrorOf(p6).find("(a ROS 2 MCAP bag: only ROS 1 .bag and ROS 2 .db3 are read"),
+            std::string::npos)
+      << ErrorOf(p6);
 
   EXPECT_EQ(ErrorOf((dir / "none.bag").string()), (dir / "none.bag").string() + ": no such file");
 }

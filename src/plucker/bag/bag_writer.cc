@@ -9,6 +9,8 @@
 #include <filesystem>
 
 #include "plucker/bag/bag_reader.h"
+#include "plucker/bag/db3_internal.h"
+#include "plucker/bag/ros2_messages_internal.h"
 
 namespace plucker {
 namespace bag {
@@ -57,10 +59,15 @@ sensor_msgs::Image ImageMessage(const std_msgs::Header& header, int width, int h
 
 }  // namespace
 
+bool IsDb3Path(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".db3") == 0;
+}
+
 struct BagWriter::Impl {
   std::string path;
   BagWriterOptions options;
   rosbag::Bag bag;
+  std::unique_ptr<Db3Writer> db3;  // a path ending in .db3: a ROS 2 bag
   bool open = false;
 
   std_msgs::Header Header(double header_s) const {
@@ -79,6 +86,12 @@ struct BagWriter::Impl {
   template <typename T>
   void WriteAt(const std::string& topic, const ros::Time& receive, const T& msg) {
     if (!open) throw BagError(path + ": written after Close");
+    if (db3) {
+      const std::int64_t ns = static_cast<std::int64_t>(receive.sec) * 1000000000 +
+                              static_cast<std::int64_t>(receive.nsec);
+      return db3->Write(topic, ros2::Ros2Type(ros::message_traits::DataType<T>::value()), ns,
+                        ros2::Encode(msg));
+    }
     try {
       bag.write(topic, receive, msg);
     } catch (const rosbag::BagException& e) {
@@ -94,6 +107,12 @@ BagWriter::BagWriter(const std::string& path, const BagWriterOptions& options) :
   std::error_code ec;
   if (std::filesystem::exists(path, ec))
     throw BagError(path + ": exists; refusing to overwrite it");
+  if (IsDb3Path(path)) {
+    if (options.lz4) throw BagError(path + ": --lz4 is for ROS 1 bags, not .db3");
+    impl_->db3 = std::make_unique<Db3Writer>(path);
+    impl_->open = true;
+    return;
+  }
   try {
     impl_->bag.open(path, rosbag::bagmode::Write);
     if (options.lz4) impl_->bag.setCompression(rosbag::compression::LZ4);
@@ -113,6 +132,10 @@ BagWriter::~BagWriter() {
 void BagWriter::Close() {
   if (!impl_->open) return;
   impl_->open = false;
+  if (impl_->db3) {
+    impl_->db3->Close();
+    return;
+  }
   try {
     impl_->bag.close();
   } catch (const rosbag::BagException& e) {
@@ -171,6 +194,17 @@ void BagWriter::WriteImage(const std::string& topic, double receive_s, double he
                            const std::vector<std::uint8_t>& data) {
   impl_->Write(topic, receive_s,
                ImageMessage(impl_->Header(header_s), width, height, encoding, data));
+}
+
+void BagWriter::WriteCompressedNs(const std::string& topic, std::int64_t receive_ns,
+                                  std::int64_t header_ns, const std::string& format,
+                                  const std::vector<std::uint8_t>& data) {
+  const std::string& p = impl_->path;
+  sensor_msgs::CompressedImage m;
+  m.header = impl_->HeaderAt(NsToTime(header_ns, 0, p + ": header"));
+  m.format = format;
+  m.data = data;
+  impl_->WriteAt(topic, NsToTime(receive_ns, 1, p + ": receive"), m);
 }
 
 void BagWriter::WriteCompressed(const std::string& topic, double receive_s, double header_s,

@@ -1,6 +1,8 @@
-// Writes ROS 1 bags with rosbag_storage: LiDAR scans as sensor_msgs/PointCloud2, IMU samples as
+// Writes ROS 1 bags with rosbag_storage, or ROS 2 `.db3` bags (SQLite3, CDR payloads; a path
+// ending in .db3) with the same calls: LiDAR scans as sensor_msgs/PointCloud2, IMU samples as
 // sensor_msgs/Imu, gray images as sensor_msgs/Image. For tests and for converting the folders
-// plucker reads (`plucker bag from-lidar`, `plucker bag from-euroc`).
+// plucker reads (`plucker bag from-lidar`, `plucker bag from-euroc`). A .db3 is a single file
+// (no metadata.yaml): plucker reads it as it is; `ros2 bag reindex` makes a rosbag2 folder of it.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +22,9 @@ struct BagWriterOptions {
   std::string frame_id = "";  // header.frame_id of every message
   void Check() const {}
 };
+
+// True when `path` ends in .db3: BagWriter writes a ROS 2 bag there.
+bool IsDb3Path(const std::string& path);
 
 class BagWriter {
  public:
@@ -46,6 +51,8 @@ class BagWriter {
                     const std::vector<std::uint8_t>& data);
   void WriteCompressed(const std::string& topic, double receive_s, double header_s,
                        const std::string& format, const std::vector<std::uint8_t>& data);
+  void WriteCompressedNs(const std::string& topic, std::int64_t receive_ns, std::int64_t header_ns,
+                         const std::string& format, const std::vector<std::uint8_t>& data);
   void Close();  // idempotent
 
  private:
