@@ -194,5 +194,18 @@ py::array_t<double> DoubleArray(std::vector<double>&& values) {
                              {py::ssize_t{sizeof(double)}}, owned->data(), owner);
 }
 
+// The scan as numpy: points (N, 3) float64 (a view of the scan's memory), intensity, ring, time
+// (empty arrays when the file has none) and the scan start time.
+py::dict ScanDict(LidarScan&& scan) {
+  py::dict d;
+  d["timestamp"] = scan.timestamp;
+  d["intensity"] =
+      py::array_t<float>(static_cast<py::ssize_t>(scan.intensity.size()), scan.intensity.data());
+  d["ring"] = py::array_t<int>(static_cast<py::ssize_t>(scan.ring.size()), scan.ring.data());
+  d["time"] = DoubleArray(std::move(scan.time));
+  d["points"] = PointsArray(std::move(scan.points));
+  return d;
+}
+
 }  // namespace python
 }  // namespace plucker

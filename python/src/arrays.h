@@ -11,6 +11,7 @@
 
 #include "plucker/geometry/camera.h"
 #include "plucker/geometry/se3.h"
+#include "plucker/sensor/lidar_scan.h"
 
 namespace plucker {
 namespace python {
@@ -51,6 +52,9 @@ py::array_t<double> PosesTq(const std::vector<SE3d>& T);
 // An (N, 3) view of the points, which the array then owns (no copy).
 py::array_t<double> PointsArray(std::vector<Eigen::Vector3d>&& points);
 py::array_t<double> DoubleArray(std::vector<double>&& values);
+// A LiDAR scan: points (N, 3) float64 (a view of the scan's memory), intensity, ring, time
+// (empty arrays when it has none) and the scan start time (read_pcd, Bag messages).
+py::dict ScanDict(LidarScan&& scan);
 
 // The shape of an array as "(3, 4)", for messages.
 std::string ShapeText(const py::array& a);

@@ -13,6 +13,7 @@ void RegisterEval(pybind11::module_& m);      // eval.cc
 void RegisterLidar(pybind11::module_& m);     // lidar.cc
 void RegisterVio(pybind11::module_& m);       // vio.cc
 void RegisterVo(pybind11::module_& m);        // vo.cc
+void RegisterBag(pybind11::module_& m);       // bag.cc
 
 }  // namespace python
 }  // namespace plucker

@@ -19,19 +19,6 @@ namespace python {
 
 namespace {
 
-// The scan as numpy: points (N, 3) float64 (a view of the scan's memory), intensity, ring, time
-// (empty arrays when the file has none) and the scan start time.
-py::dict ScanDict(LidarScan&& scan) {
-  py::dict d;
-  d["timestamp"] = scan.timestamp;
-  d["intensity"] =
-      py::array_t<float>(static_cast<py::ssize_t>(scan.intensity.size()), scan.intensity.data());
-  d["ring"] = py::array_t<int>(static_cast<py::ssize_t>(scan.ring.size()), scan.ring.data());
-  d["time"] = DoubleArray(std::move(scan.time));
-  d["points"] = PointsArray(std::move(scan.points));
-  return d;
-}
-
 // The KITTI line of a 4x4 pose: its first three rows, each number in the shortest text that
 // reads back as the same double (as io::WriteKittiPoses writes them).
 std::string FormatKittiPoses(const py::handle& poses) {

@@ -15,4 +15,5 @@ PYBIND11_MODULE(_plucker, m) {
   plucker::python::RegisterLidar(m);
   plucker::python::RegisterVio(m);
   plucker::python::RegisterVo(m);
+  plucker::python::RegisterBag(m);
 }
