@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import plucker
-from test_online import poses_lines, tum_rows
+from test_online import poses_lines, same_as_file
 
 
 def cli_usable(cli: str) -> bool:
@@ -46,14 +46,6 @@ def run_vio_frames(data: dict):
     return vio, online
 
 
-def same_poses(times, poses_tq, path: pathlib.Path, tmp_path: pathlib.Path):
-    stamps, cli = tum_rows(path)
-    ours = tmp_path / "stamps.tum"
-    plucker.write_tum(str(ours), times, np.tile(np.eye(4), (len(times), 1, 1)))
-    assert tum_rows(ours)[0] == stamps
-    assert np.array_equal(np.asarray(poses_tq).reshape(-1, 7), cli)
-
-
 def test_vio_add_frame_same_as_the_command_line(features, plucker_cli, tmp_path):
     out, out_online = tmp_path / "cli.tum", tmp_path / "cli-online.tum"
     subprocess.run([plucker_cli, "vio", "--features", str(features), "--out", str(out),
@@ -66,10 +58,10 @@ def test_vio_add_frame_same_as_the_command_line(features, plucker_cli, tmp_path)
     assert vio.initialized
     with_pose = [r for r in online if r["T_w_b"] is not None]
     assert len(with_pose) >= 5
-    same_poses([r["time"] for r in with_pose], [r["T_w_b_tq"] for r in with_pose], out_online,
-               tmp_path)
+    same_as_file([r["time"] for r in with_pose], [r["T_w_b_tq"] for r in with_pose], out_online,
+                 None, tmp_path)
     refined = vio.refined_trajectory()
-    same_poses(refined["times"], refined["T_w_b_tq"], out, tmp_path)
+    same_as_file(refined["times"], refined["T_w_b_tq"], out, None, tmp_path)
     assert len(poses_lines(out)) == FRAMES
 
 

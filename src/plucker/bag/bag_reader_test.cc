@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "plucker/bag/bag_test_utils.h"
 #include "plucker/bag/bag_writer.h"
 #include "plucker/io/io_test_utils.h"
 
@@ -13,13 +14,8 @@ namespace bag {
 namespace {
 
 using io::testing::ScratchDir;
-
-sensor::LidarScan Scan(int k) {
-  sensor::LidarScan s;
-  for (int i = 0; i < 5; ++i) s.points.emplace_back(i + k, 0.5 * i, -0.25 * k);
-  s.intensity = {1, 2, 3, 4, 5};
-  return s;
-}
+using testing::ErrorOf;
+using testing::Scan;
 
 // Scans at 10 Hz on /points (receive 5 ms after the header stamp), IMU at 100 Hz on /imu whose
 // receive times lag by 50 ms: receive order and header order differ.
@@ -44,15 +40,6 @@ std::string ReadAll(const std::string& path) {
 }
 void WriteAll(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
-}
-
-std::string ErrorOf(const std::string& path) {
-  try {
-    BagReader r(path);
-  } catch (const BagError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(BagReader, InfoListsTopicsTypesCountsAndSpans) {

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "plucker/bag/bag_reader.h"
+#include "plucker/bag/bag_test_utils.h"
 #include "plucker/bag/bag_writer.h"
 #include "plucker/io/io_test_utils.h"
 
@@ -14,13 +15,8 @@ namespace bag {
 namespace {
 
 using io::testing::ScratchDir;
-
-sensor::LidarScan Scan(int k) {
-  sensor::LidarScan s;
-  for (int i = 0; i < 5; ++i) s.points.emplace_back(i + k, 0.5 * i, -0.25 * k);
-  s.intensity = {1, 2, 3, 4, 5};
-  return s;
-}
+using testing::ErrorOf;
+using testing::Scan;
 
 // As bag_reader_test's small bag: scans at 10 Hz (received 5 ms late), IMU at 100 Hz (50 ms
 // late), an odd-length frame_id so that the CDR alignment after it matters.
@@ -40,15 +36,6 @@ void WriteSmall(const std::string& path) {
   w.WriteImage("/cam", 2.1, 2.1, 1, 1, "16UC1", {1, 2});
   w.WriteCompressed("/jpeg", 2.0, 2.0, "jpeg", {0xff, 0xd8});
   w.Close();
-}
-
-std::string ErrorOf(const std::string& path) {
-  try {
-    BagReader r(path);
-  } catch (const BagError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 void Sql(const std::string& path, const char* sql) {
