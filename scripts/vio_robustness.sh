@@ -1,35 +1,44 @@
 #!/usr/bin/env bash
 # VIO robustness table (issue 26 part 2b): unseen seeds x scenes x rates x starts (+ the
-# aggressive motion), one run at a time. Usage:
+# aggressive and fast motions), one run at a time. Usage:
 #   scripts/vio_robustness.sh PLUCKER OUT_DIR [SEEDS] [FRAMES_SECONDS] [CASES]
+#   scripts/vio_robustness.sh --summary RUNS.tsv [RUNS.tsv ...]
 # SEEDS: e.g. "$(seq 200 219)"; FRAMES_SECONDS: the simulated seconds of each run (frames =
 # seconds x rate); CASES: "scene:rate:start:motion ..." (default the table of the issue plus the
-# aggressive scene). Writes OUT_DIR/runs.tsv (one row per run) and prints the table (median and
-# worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share).
+# aggressive and fast scenes). Seeds are the outer loop (a run stopped early leaves every case
+# with the same seeds). Writes OUT_DIR/runs.tsv (one row per run) and prints the table (median
+# and worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share).
+# --summary: the table of several runs.tsv files (e.g. two OUT_DIRs run side by side on
+# disjoint seeds).
 set -u
+if [ "${1:-}" = --summary ]; then
+  shift
+  SUMMARY_FILES=("$@")
+else
 P="$1"
 OUT="$2"
 SEEDS="${3:-$(seq 200 219)}"
 SECONDS_PER_RUN="${4:-30}"
 CASES="${5:-room:10:moving:normal room:10:static:normal room:20:moving:normal room:20:static:normal
 corridor:10:moving:normal corridor:10:static:normal corridor:20:moving:normal
-corridor:20:static:normal room:30:moving:aggressive corridor:30:moving:aggressive}"
+corridor:20:static:normal room:30:moving:aggressive corridor:30:moving:aggressive
+room:30:moving:fast corridor:30:moving:fast}"
 mkdir -p "$OUT"
 RUNS="$OUT/runs.tsv"
 printf 'scene\trate\tstart\tmotion\tseed\tframes\tate_m\timu_only_frames\texit\tlines\n' > "$RUNS"
-for c in $CASES; do
-  IFS=: read -r scene rate start motion <<< "$c"
-  frames=$(awk -v s="$SECONDS_PER_RUN" -v r="$rate" 'BEGIN { printf "%d", s * r }')
-  stand=0
-  [ "$start" = static ] && stand=1.25
-  for seed in $SEEDS; do
+for seed in $SEEDS; do
+  for c in $CASES; do
+    IFS=: read -r scene rate start motion <<< "$c"
+    frames=$(awk -v s="$SECONDS_PER_RUN" -v r="$rate" 'BEGIN { printf "%d", s * r }')
+    stand=0
+    [ "$start" = static ] && stand=1.25
     d="$OUT/sim"
     rm -rf "$d"
     "$P" sim camera --out "$d" --scene "$scene" --rate "$rate" --frames "$frames" --seed "$seed" \
       --standing-start "$stand" --motion "$motion" > /dev/null || { echo "sim failed: $c $seed"; continue; }
     grep -v '^#' "$d/body_states.txt" | cut -d' ' -f1-8 > "$OUT/gt.tum"
     for lines in yes no; do
-      [ "$lines" = no ] && [ "$motion" != aggressive ] && continue  # points vs lines: aggressive
+      [ "$lines" = no ] && [ "$motion" = normal ] && continue  # points vs lines: fast motions
       flag=""
       [ "$lines" = no ] && flag="--no-lines"
       rm -f "$OUT/est.tum" "$OUT/est.json"  # a failed run must not leave the previous one's
@@ -46,9 +55,11 @@ for c in $CASES; do
     done
   done
 done
-python3 - "$RUNS" <<'PY'
+SUMMARY_FILES=("$RUNS")
+fi
+python3 - "${SUMMARY_FILES[@]}" <<'PY'
 import csv, math, statistics, sys
-rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
+rows = [r for f in sys.argv[1:] for r in csv.DictReader(open(f), delimiter="\t")]
 groups = {}
 for r in rows:
     groups.setdefault((r["scene"], r["rate"], r["start"], r["motion"], r["lines"]), []).append(r)

@@ -49,6 +49,7 @@ int Run(const SimCameraArgs& args) {
   options.imu.model.rate_hz = args.imu_rate;
   options.trajectory.standing_start_s = args.standing_start;
   if (args.motion == "aggressive") sim::MakeAggressive(&options.trajectory);
+  if (args.motion == "fast") sim::MakeFast(&options.trajectory);
   if (args.camera_model == "kb")
     options.rig = sim::FisheyeRig(args.view_fov, args.points == "view");
   const sim::CameraSimulation sim = sim::SimulateCamera(options);
@@ -126,8 +127,9 @@ void RegisterSimCamera(CLI::App& sim, int* exit_code) {
       ->check(CLI::Range(0.0, 1e4))
       ->capture_default_str();
   cmd->add_option("--motion", args->motion,
-                  "Motion: normal, or aggressive (up to ~8 m/s and ~2 rad/s; docs/sim-format.md)")
-      ->check(CLI::IsMember({"normal", "aggressive"}))
+                  "Motion: normal, aggressive (up to ~6.5 m/s, 1.2-2.8 rad/s) or fast (up to "
+                  "~8 m/s, 2.2-4 rad/s); docs/sim-format.md")
+      ->check(CLI::IsMember({"normal", "aggressive", "fast"}))
       ->capture_default_str();
   cmd->add_option("--camera-model", args->camera_model,
                   "Camera: pinhole (640x480, fx 400), or kb: a 512x512 Kannala-Brandt fisheye "

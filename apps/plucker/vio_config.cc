@@ -56,6 +56,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value(SharedVisualOption("window.min_tracked"), PLUCKER_OPTION_MEMBER(odometry.min_tracked));
   t.Value(SharedVisualOption("window.min_tracked_ratio"),
           PLUCKER_OPTION_MEMBER(odometry.min_tracked_ratio));
+  t.Value("window.keyframe_max_rotation_deg", "deg",
+          "keyframe when the frame has turned this much from the newest one (0: off)", AtLeast(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
   t.Value("inertial.max_imu_factor_span_s", "s",
@@ -85,6 +88,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("init.image_still_px", "px",
           "median point motion above which a frame moves (vetoes the static start)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.image_still_px));
+  t.Value("init.image_still_span_s", "s",
+          "the static test's image motion: against the newest frame at least this much older",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.image_still_span_s));
   t.Value(SharedVisualOption("points.max_tracks"),
           PLUCKER_OPTION_MEMBER(odometry.max_point_tracks));
   t.Value(SharedVisualOption("points.min_distance_px"),
@@ -141,6 +147,7 @@ const OptionsTable<VioConfig>& VioOptions() {
                  {"keyframe_parallax_px", "window.keyframe_parallax_px"},
                  {"min_tracked", "window.min_tracked"},
                  {"min_tracked_ratio", "window.min_tracked_ratio"},
+                 {"keyframe_max_rotation_deg", "window.keyframe_max_rotation_deg"},
                  {"max_keyframe_interval_s", "inertial.max_imu_factor_span_s"},
                  {"gyro_bias_prior_sigma", "inertial.gyro_bias_prior_sigma"},
                  {"accel_bias_prior_sigma", "inertial.accel_bias_prior_sigma"},
@@ -152,6 +159,7 @@ const OptionsTable<VioConfig>& VioOptions() {
                  {"init_max_rotation_disagreement_deg", "init.max_rotation_disagreement_deg"},
                  {"init_gyro_bias_bound", "init.gyro_bias_bound"},
                  {"image_still_px", "init.image_still_px"},
+                 {"image_still_span_s", "init.image_still_span_s"},
                  {"max_point_tracks", "points.max_tracks"},
                  {"point_min_distance_px", "points.min_distance_px"},
                  {"line_max_segments", "lines.max_segments"},

@@ -8,6 +8,9 @@
 // points, 0 tracked frames, 158 of 198 frames IMU-only, ATE 2.30 m; with the fix it passes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "plucker/eval/ate.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
 #include "plucker/sim/camera_observations.h"
@@ -60,6 +63,65 @@ TEST(VisualInertialOdometryStandingStart, VisionStartsAfterAStaticStartOnACorrid
   ASSERT_GT(est.size(), 190u);
   const eval::AteResult ate = eval::ComputeAte(gt, est, {eval::AlignmentMode::kPositionYaw});
   EXPECT_LT(ate.translation_m.rmse, 0.5);
+}
+
+// The static test's still span after a standing start at 20 Hz (seed 204 of the robustness
+// table, `--scene corridor --rate 20 --standing-start 1.25`): the image motion between two 20 Hz
+// frames stays under image_still_px during the smooth speed-up, so against the previous frame
+// (image_still_span_s = 0, as before) the span ran to 2.0 s, 0.75 s into the motion, and its
+// gravity was 2.1 deg off (the run drifted 22 m over 30 s); against the frame 0.1 s older the
+// span ends at the start of the motion.
+struct StillSpan {
+  double seconds = 0.0, up_error_deg = 180.0;
+};
+
+StillSpan StaticStartOnCorridor(double image_still_span_s) {
+  sim::CameraSimulationOptions o;
+  o.scene.kind = sim::SceneKind::kCorridor;
+  o.num_frames = 60;
+  o.frame_rate_hz = 20.0;
+  o.seed = 204;
+  o.trajectory.standing_start_s = 1.25;
+  const sim::CameraSimulation s = sim::SimulateCamera(o);
+  VisualInertialCalibration calib;
+  calib.camera.K = s.rig.K;
+  calib.camera.width = s.rig.width;
+  calib.camera.height = s.rig.height;
+  calib.T_b_c = s.rig.T_b_c;
+  calib.imu = s.imu_options.model;
+  calib.gravity_magnitude = s.imu_options.gravity_w.norm();
+  calib.pixel_sigma = s.obs_options.pixel_sigma;
+  std::vector<window::FrameInput> frames(s.frame_times.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = s.frame_times[i];
+  for (const auto& p : s.points) frames[p.frame].points.push_back(p);
+  VisualInertialOdometryOptions options;
+  options.use_lines = false;
+  options.image_still_span_s = image_still_span_s;
+  VisualInertialOdometry vio(options, calib);
+  std::size_t k = 0;
+  for (const window::FrameInput& f : frames) {
+    while (k < s.imu.size() && (k == 0 || s.imu[k - 1].t < f.time)) vio.AddImu(s.imu[k++]);
+    vio.AddFrame(f);
+    if (vio.initialization().done) break;
+  }
+  StillSpan span;
+  for (const VioInitEvent& e : vio.initialization().events) {
+    if (e.event != "static_test" || !e.still) continue;
+    const Eigen::Vector3d up_gt = s.T_w_b_gt.front().RotationMatrix().transpose().col(2);
+    span.seconds = e.still_seconds;
+    span.up_error_deg = std::acos(std::min(1.0, up_gt.dot(e.up_b.normalized()))) * 180.0 / M_PI;
+  }
+  return span;
+}
+
+TEST(VisualInertialOdometryStandingStart, StillSpanEndsWhereTheMotionStartsAt20Hz) {
+  const StillSpan before = StaticStartOnCorridor(0.0);  // against the previous frame
+  EXPECT_GT(before.seconds, 1.5);                       // the old failure is reproduced
+  EXPECT_GT(before.up_error_deg, 1.0);
+  const StillSpan after = StaticStartOnCorridor(VisualInertialOdometryOptions().image_still_span_s);
+  EXPECT_GE(after.seconds, 1.0);  // still a static start
+  EXPECT_LE(after.seconds, 1.25);
+  EXPECT_LT(after.up_error_deg, 0.5);
 }
 
 }  // namespace

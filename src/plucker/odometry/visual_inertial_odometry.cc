@@ -22,8 +22,9 @@ std::string VisualInertialOdometryOptions::Problem() const {
       init_max_keyframes < init_min_keyframes || !(max_imu_factor_span_s > 0.0) ||
       !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
-      !(init_gyro_bias_bound >= 0.0) || !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
-      !(point_min_distance_px >= 0.0) || line_max_segments < 0 ||
+      !(init_gyro_bias_bound >= 0.0) || !(image_still_span_s >= 0.0) ||
+      !(keyframe_max_rotation_deg >= 0.0) || !(tracking_velocity_sigma >= 0.0) ||
+      max_point_tracks < 1 || !(point_min_distance_px >= 0.0) || line_max_segments < 0 ||
       !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 0 ||
       line_flow_samples > 1000) {
     return "an option is out of range (window >= 2, init_min_keyframes >= 4, init_max_keyframes "
@@ -96,6 +97,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.keyframe_parallax_px = c.keyframe_parallax_px;
   o.min_tracked = c.min_tracked;
   o.min_tracked_ratio = c.min_tracked_ratio;
+  o.keyframe_max_rotation_deg = c.keyframe_max_rotation_deg;
   o.point_sigma_px = o.line_sigma_px = std::max(calib.pixel_sigma, 0.5);
   window::InertialOptions inertial;
   inertial.T_b_c = calib.T_b_c;
@@ -172,14 +174,21 @@ void VisualInertialOdometry::Impl::Observe(int index, const window::FrameInput& 
 }
 
 // The window's zero-motion flag: no image motion against the previous frame (the first frame
-// takes the second's); the flags feed the static test until the start.
+// takes the second's). Until the start, the static test's flags: the image motion against the
+// newest earlier frame at least image_still_span_s older (the oldest while there is none), so
+// that a slow start at a high frame rate is seen moving as it is at 10 Hz.
 void VisualInertialOdometry::Impl::SetStationary(window::FrameInput* frame) {
   frame->stationary = false;
   if (!has_last) return;
   const std::optional<inertial::ImageMotionFlag> flag = ImageMotion(last, *frame, o.image_still_px);
-  if (flag) {
-    frame->stationary = flag->still;
-    if (!estimator) flags.push_back(*flag);
+  if (flag) frame->stationary = flag->still;
+  if (!estimator && !frames.empty()) {
+    const double t_ref = frame->time - o.image_still_span_s + 1e-9;
+    auto ref = frames.rbegin();
+    while (ref + 1 != frames.rend() && ref->time > t_ref) ++ref;
+    const std::optional<inertial::ImageMotionFlag> span_flag =
+        ImageMotion(*ref, *frame, o.image_still_px);
+    if (span_flag) flags.push_back(*span_flag);
   }
   if (num_frames == 1 && !frames.empty()) frames.front().stationary = frame->stationary;
 }

@@ -55,6 +55,11 @@ struct VisualInertialOdometryOptions {
   double keyframe_parallax_px = 20.0;
   int min_tracked = 20;            // a keyframe when fewer landmarks are tracked
   double min_tracked_ratio = 0.3;  // ... or fewer than this share of the frame's observations
+  // ... or when the frame has turned this much from the newest keyframe (deg; 0: off). The
+  // aggressive corridor at 30 Hz (1.2 rad/s, 5 m/s looking down the corridor) kept the median
+  // parallax under 20 px for a second, the tracks ended in between and the dynamic start's scale
+  // was 10-30 % off (docs/vio.md).
+  double keyframe_max_rotation_deg = 20.0;
   double max_imu_factor_span_s = 1.0;
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
@@ -72,6 +77,11 @@ struct VisualInertialOdometryOptions {
   // A frame whose median point displacement against the previous frame exceeds this moves
   // (vetoes the static initialisation over its IMU block; else the window's zero-motion update).
   double image_still_px = 3.0;
+  // ... measured, for the static test, against the newest earlier frame at least this much older
+  // (0.1 s: the previous frame at 10 Hz or slower). Against the previous frame only, a slow start
+  // down a corridor moved the points under image_still_px between two 20 Hz frames: the still
+  // span ran 0.75 s into the motion and its gravity was 2 deg off (docs/vio.md).
+  double image_still_span_s = 0.1;  // s
   // The still test's bound on a 0.25 s block's accelerometer spread (inertial::StaticInitOptions
   // max_accel_std, whose 1.5 m/s^2 a drone's rotors exceed at rest): EuRoC V1_01 standing still
   // (ground truth under 1 mm) gives 1.39-1.62 m/s^2 in its third block depending on where the

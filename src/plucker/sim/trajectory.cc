@@ -202,5 +202,12 @@ void MakeAggressive(TrajectoryOptions* options) {
   options->turn_frequency_scale = 3.0;
 }
 
+void MakeFast(TrajectoryOptions* options) {
+  MakeAggressive(options);
+  options->speed = 7.3;
+  options->yaw_sway = 0.8;
+  options->turn_frequency_scale = 4.0;
+}
+
 }  // namespace sim
 }  // namespace plucker

@@ -106,5 +106,11 @@ Trajectory MakeTrajectory(const TrajectoryOptions& options, const Scene& scene, 
 // `plucker sim camera` prints the largest speed and turn rate of a run).
 void MakeAggressive(TrajectoryOptions* options);
 
+// The fast motion of issue 26 (speeds up to 8 m/s, turns up to 2 rad/s; docs/sim-format.md):
+// speed 7.3 m/s along the main motion (~8 m/s with the sway and wobble), the heading sway 0.8 rad
+// at 4x its frequency (the corridor turns at ~2.2 rad/s; the room, whose lap itself turns at
+// speed / radius, at ~4 rad/s). MakeAggressive stays as it was (its runs byte-identical).
+void MakeFast(TrajectoryOptions* options);
+
 }  // namespace sim
 }  // namespace plucker

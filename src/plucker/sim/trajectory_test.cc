@@ -162,6 +162,31 @@ TEST(TrajectoryTest, AggressiveMotionIsFastAndStaysInFreeSpace) {
   }
 }
 
+// Issue 26's fast scene: speeds up to 8 m/s and turns of at least 2 rad/s in both scenes.
+TEST(TrajectoryTest, FastMotionReachesEightMetresAndTwoRadiansPerSecond) {
+  for (const SceneKind kind : {SceneKind::kRoom, SceneKind::kCorridor}) {
+    SceneOptions scene_options;
+    scene_options.kind = kind;
+    const Scene scene = MakeScene(scene_options, 3);
+    TrajectoryOptions options;
+    options.duration = 20.0;
+    MakeFast(&options);
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const Trajectory tr = MakeTrajectory(options, scene, seed);
+      double max_v = 0.0, max_w = 0.0;
+      for (double t = 0.0; t <= tr.duration(); t += 0.01) {
+        EXPECT_TRUE(scene.free_space_w.contains(tr.position_w(t))) << SceneKindName(kind) << t;
+        max_v = std::max(max_v, tr.velocity_w(t).norm());
+        max_w = std::max(max_w, tr.angular_velocity_b(t).norm());
+      }
+      EXPECT_GT(max_v, 7.5) << SceneKindName(kind);
+      EXPECT_LT(max_v, 8.5) << SceneKindName(kind);
+      EXPECT_GT(max_w, 2.0) << SceneKindName(kind);
+      EXPECT_LT(max_w, 5.0) << SceneKindName(kind);
+    }
+  }
+}
+
 TEST(TrajectoryTest, RejectsInvalidOptions) {
   const Scene scene = MakeScene(SceneOptions(), 1);
   TrajectoryOptions options;

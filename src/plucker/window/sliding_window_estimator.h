@@ -171,6 +171,9 @@ struct SlidingWindowOptions {
   // default). The vision-only window of the dynamic VIO initialisation sets it so that the IMU
   // is preintegrated over short spans (the inertial mode has its own, InertialOptions).
   double max_keyframe_interval_s = 0.0;
+  // Also a keyframe when the frame has turned this much from the newest keyframe (deg; 0: off, the
+  // VO default): under fast turns the tracks end before the parallax builds up.
+  double keyframe_max_rotation_deg = 0.0;
   // Robust loss on the reprojection residuals (pixels, whitened by the sigmas below).
   factors::RobustLoss loss = factors::RobustLoss::kHuber;
   double loss_scale = 1.5;  // in units of sigma

@@ -1,5 +1,7 @@
-// Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, time since the
-// newest keyframe; InertialOptions::max_imu_factor_span_s in the inertial mode).
+// Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, rotation from and
+// time since the newest keyframe; InertialOptions::max_imu_factor_span_s in the inertial mode).
+#include <Eigen/Geometry>
+#include <cmath>
 #include <unordered_map>
 
 #include "plucker/geometry/median.h"
@@ -60,9 +62,15 @@ bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackRes
   result->parallax_px = Parallax(f);
   const int observed = static_cast<int>(f.input.points.size() + f.input.segments.size());
   const double since_keyframe = f.input.time - keyframes.back()->input.time;
+  const bool turned = opt.keyframe_max_rotation_deg > 0.0 &&
+                      Eigen::AngleAxisd(keyframes.back()->T_w_c().RotationMatrix().transpose() *
+                                        f.T_w_c().RotationMatrix())
+                                  .angle() *
+                              180.0 / M_PI >=
+                          opt.keyframe_max_rotation_deg;
   const bool keyframe =
       track.ok &&
-      (result->parallax_px >= opt.keyframe_parallax_px ||
+      (result->parallax_px >= opt.keyframe_parallax_px || turned ||
        track.points + track.lines < opt.min_tracked ||
        track.points + track.lines < opt.min_tracked_ratio * observed ||
        (opt.max_keyframe_interval_s > 0.0 && since_keyframe >= opt.max_keyframe_interval_s));
@@ -73,8 +81,7 @@ bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackRes
   // without waiting for max_imu_factor_span_s of IMU-only frames.
   const bool untracked_parallax = !track.ok && result->parallax_px >= opt.keyframe_parallax_px;
   if (opt.inertial)
-    return keyframe || untracked_parallax ||
-           since_keyframe >= opt.inertial->max_imu_factor_span_s;
+    return keyframe || untracked_parallax || since_keyframe >= opt.inertial->max_imu_factor_span_s;
   return keyframe;
 }
 
