@@ -8,6 +8,7 @@
 # aggressive and fast scenes). Seeds are the outer loop (a run stopped early leaves every case
 # with the same seeds). Writes OUT_DIR/runs.tsv (one row per run) and prints the table (median
 # and worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share).
+# VIO_ARGS (environment): extra `plucker vio` flags for every run, e.g. "--config my.yaml".
 # --summary: the table of several runs.tsv files (e.g. two OUT_DIRs run side by side on
 # disjoint seeds).
 set -u
@@ -43,7 +44,7 @@ for seed in $SEEDS; do
       [ "$lines" = no ] && flag="--no-lines"
       rm -f "$OUT/est.tum" "$OUT/est.json"  # a failed run must not leave the previous one's
       "$P" vio --features "$d" --out "$OUT/est.tum" --json "$OUT/est.json" --quiet $flag \
-        2> "$OUT/last.err"
+        ${VIO_ARGS:-} 2> "$OUT/last.err"
       rc=$?
       ate=$("$P" eval ate --gt "$OUT/gt.tum" --est "$OUT/est.tum" --align posyaw --json 2> /dev/null |
         python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["translation_m"]["rmse"])' \
