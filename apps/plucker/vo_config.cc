@@ -81,6 +81,15 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(start.two_view.min_inliers));
   t.Value("init.min_parallax_px", "px", "rotation-compensated parallax of a start", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(start.two_view.min_parallax_px));
+  t.Value("init.min_translation_parallax_px", "px",
+          "parallax of a start left after the best pure rotation (0: not tested)", AtLeast(0.0),
+          PLUCKER_OPTION_MEMBER(start.two_view.min_translation_parallax_px));
+  t.Value("init.min_triangulation_angle_deg", "deg",
+          "median ray angle of a start's inliers (0: not tested)", Between(0.0, 90.0),
+          PLUCKER_OPTION_MEMBER(start.two_view.min_triangulation_angle_deg));
+  t.Value("init.max_depth_baselines", "",
+          "a start's inliers nearer than this many baselines (cheirality test)", Above(0.0),
+          PLUCKER_OPTION_MEMBER(start.two_view.max_depth_baselines));
   t.Bool("init.widest_pair", "start on the widest pair that passes, not the first",
          PLUCKER_OPTION_MEMBER(start.widest_init_pair));
   t.Bool("init.multi_view", "frames between the two views as keyframes of the start",
@@ -136,7 +145,15 @@ VoConfig ImageVoConfig() {
   c.start.widest_init_pair = false;  // the start as measured on the KITTI clip: the first pair that
   c.start.multi_view_start = false;  // passes, two views
   c.start.max_init_tries = 1;
+  // The start must see translation (MH_05: docs/vo.md): no depth limit of 50 baselines in the
+  // cheirality count, 5 px left after the best pure rotation, 0.5 deg median ray angle.
+  c.start.two_view.max_depth_baselines = 1e4;
+  c.start.two_view.min_translation_parallax_px = 5.0;
+  c.start.two_view.min_triangulation_angle_deg = 0.5;
   c.window.line_triangulation.min_plane_angle_deg = 10.0;
+  // New points from 0.25 deg of parallax: slow flight in a deep hall (MH_05 take-off, 0.5-2 cm a
+  // frame at 3-10 m) gave 1 deg too late, tracks ended first and the map ran dry (docs/vo.md).
+  c.window.point_triangulation.min_parallax_deg = 0.25;
   c.window.prior_blocks = Prior::kPoses;
   c.window.keyframe_parallax_px = 20.0;
   c.window.min_tracked_ratio = 0.2;

@@ -115,7 +115,8 @@ EssentialPoseResult EssentialPose(const std::vector<Eigen::Vector2d>& xa,
       return result;
     }
     cv::Mat R, t;
-    result.inliers = cv::recoverPose(E, a, b, R, t, 1.0, cv::Point2d(0, 0), mask);
+    result.inliers = cv::recoverPose(E, a, b, cv::Mat::eye(3, 3, CV_64F), R, t,
+                                     options.max_depth_baselines, mask);
     for (int r = 0; r < 3; ++r) {
       result.t_b_a(r) = t.at<double>(r);
       for (int c = 0; c < 3; ++c) result.R_b_a(r, c) = R.at<double>(r, c);

@@ -56,6 +56,11 @@ struct EssentialPoseOptions {
   // length in pixels).
   double threshold = 1e-3;
   double confidence = 0.999;
+  // The cheirality test counts a match as an inlier when its triangulated depth is in (0, this)
+  // in units of the (unit) baseline; 50 is OpenCV's default. A short baseline in a deep scene
+  // (a drone taking off in a hall: 1 cm against 5 m) puts the right solution's points beyond 50
+  // and a wrong one with near points wins.
+  double max_depth_baselines = 50.0;
   // With exactly five matches OpenCV returns every five-point solution stacked (3k x 3): true
   // takes the first (the reconstruction), false fails with kNoEssentialMatrix (the window).
   bool take_first_of_several = false;

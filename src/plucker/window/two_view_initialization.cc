@@ -1,8 +1,10 @@
 #include "plucker/window/two_view_initialization.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -11,6 +13,51 @@
 
 namespace plucker {
 namespace window {
+namespace {
+
+// Pixel distance between b's observation and a's ray rotated into b, per match (infinite for a
+// ray that turns behind b).
+std::vector<double> RotatedResiduals(const PinholeIntrinsics& K, const Eigen::Matrix3d& R_b_a,
+                                     const std::vector<Eigen::Vector3d>& fa,
+                                     const std::vector<Eigen::Vector2d>& pb) {
+  std::vector<double> r(fa.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < fa.size(); ++i) {
+    const Eigen::Vector3d ray = R_b_a * fa[i];
+    if (ray.z() <= 1e-9) continue;
+    const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
+    r[i] = (uv - pb[i]).norm();
+  }
+  return r;
+}
+
+// The rotation that best maps the bearings fa onto fb (least squares on the unit sphere), over
+// the matches with use[i].
+Eigen::Matrix3d BestRotation(const std::vector<Eigen::Vector3d>& fa,
+                             const std::vector<Eigen::Vector3d>& fb, const std::vector<bool>& use) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < fa.size(); ++i)
+    if (use[i]) H += fb[i].normalized() * fa[i].normalized().transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+// The median parallax left after the best pure rotation: fitted to all matches, then refitted to
+// the half it explains best (so that a rotation absorbs as much of the flow as it can).
+double TranslationParallax(const PinholeIntrinsics& K, const std::vector<Eigen::Vector3d>& fa,
+                           const std::vector<Eigen::Vector3d>& fb,
+                           const std::vector<Eigen::Vector2d>& pb) {
+  std::vector<bool> use(fa.size(), true);
+  Eigen::Matrix3d R = BestRotation(fa, fb, use);
+  std::vector<double> r = RotatedResiduals(K, R, fa, pb);
+  const double median = UpperMedian(r);
+  for (std::size_t i = 0; i < r.size(); ++i) use[i] = r[i] <= median;
+  R = BestRotation(fa, fb, use);
+  return UpperMedian(RotatedResiduals(K, R, fa, pb));
+}
+
+}  // namespace
 
 TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
                                 const std::vector<sensor::PointObservation>& a,
@@ -40,6 +87,7 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
   eo.threshold = options.ransac_threshold_px / (0.5 * (K.fx + K.fy));
   eo.confidence = 0.999;
   eo.take_first_of_several = false;
+  eo.max_depth_baselines = options.max_depth_baselines;
   const vision::EssentialPoseResult e = vision::EssentialPose(xa, xb, eo);
   if (!e.ok()) {
     result.message = e.message;
@@ -63,22 +111,41 @@ TwoViewResult InitializeTwoView(const PinholeIntrinsics& K,
       return result;
     }
   }
-  // Rotation-compensated parallax of the inliers.
-  std::vector<double> parallax;
+  // Rotation-compensated parallax of the inliers, their triangulation angles.
+  std::vector<Eigen::Vector3d> fa, fb;
+  std::vector<Eigen::Vector2d> pb_in;
+  std::vector<double> parallax, angle;
   for (std::size_t i = 0; i < xa.size(); ++i) {
     if (!e.inlier_mask[i]) continue;
-    const Eigen::Vector3d ray = R_b_a * xa[i].homogeneous();
+    fa.push_back(xa[i].homogeneous());
+    fb.push_back(xb[i].homogeneous());
+    pb_in.push_back(pb[i]);
+    const Eigen::Vector3d ray = R_b_a * fa.back();
     if (ray.z() <= 1e-9) continue;
     const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
     parallax.push_back((uv - pb[i]).norm());
+    angle.push_back(std::acos(std::clamp(ray.normalized().dot(fb.back().normalized()), -1.0, 1.0)) *
+                    180.0 / M_PI);
   }
   if (parallax.empty()) {
     result.message = "no inlier in front of both cameras";
     return result;
   }
   result.parallax_px = UpperMedian(std::move(parallax));
+  result.triangulation_angle_deg = UpperMedian(std::move(angle));
+  result.translation_parallax_px = TranslationParallax(K, fa, fb, pb_in);
   if (result.parallax_px < options.min_parallax_px) {
     result.message = "too little parallax (" + std::to_string(result.parallax_px) + " px)";
+    return result;
+  }
+  if (result.translation_parallax_px < options.min_translation_parallax_px) {
+    result.message = "no translation seen: " + std::to_string(result.translation_parallax_px) +
+                     " px of parallax after the best pure rotation";
+    return result;
+  }
+  if (result.triangulation_angle_deg < options.min_triangulation_angle_deg) {
+    result.message = "triangulation angle too small (" +
+                     std::to_string(result.triangulation_angle_deg) + " deg)";
     return result;
   }
   if (!R_b_a.allFinite() || !t_b_a.allFinite() || t_b_a.norm() < 0.5) {

@@ -25,11 +25,21 @@ namespace plucker {
 namespace window {
 
 struct TwoViewOptions {
-  int min_common_tracks = 12;        // tracks seen in both frames
-  int min_inliers = 10;              // essential-matrix inliers in front of both cameras
-  double min_parallax_px = 15.0;     // rotation-compensated median parallax of the inliers
+  int min_common_tracks = 12;     // tracks seen in both frames
+  int min_inliers = 10;           // essential-matrix inliers in front of both cameras
+  double min_parallax_px = 15.0;  // rotation-compensated median parallax of the inliers
+  // The translation must show: the median parallax of the inliers left after the best pure
+  // rotation (fitted to them, not the essential matrix's rotation: with no translation that one
+  // is arbitrary and its "parallax" is noise taken as motion) at least this (0: not tested).
+  double min_translation_parallax_px = 0.0;
+  // Median angle between the two rays of the inliers triangulated with the essential matrix's
+  // pose, at least this (0: not tested).
+  double min_triangulation_angle_deg = 0.0;
   double ransac_threshold_px = 1.5;  // epipolar distance, pixels
   double min_inlier_ratio = 0.5;
+  // Inliers must triangulate in front of both cameras, nearer than this many baselines (OpenCV's
+  // 50 refused the right solution of a short pair in a deep scene: docs/vo.md, MH_05).
+  double max_depth_baselines = 50.0;
   // With a known rotation: the largest angle between it and the essential matrix's rotation
   // (the caller includes what the known rotation's own error can be, e.g. an unknown gyro bias).
   double max_rotation_disagreement_deg = 2.0;
@@ -41,7 +51,9 @@ struct TwoViewResult {
   SE3d T_b_a;           // camera a in camera b, |t| = 1
   int common_tracks = 0;
   int inliers = 0;
-  double parallax_px = 0.0;
+  double parallax_px = 0.0;                // after the essential matrix's rotation
+  double translation_parallax_px = 0.0;    // after the best pure rotation
+  double triangulation_angle_deg = 0.0;    // median over the inliers
   double rotation_disagreement_deg = 0.0;  // against the known rotation (0 without one)
 };
 
