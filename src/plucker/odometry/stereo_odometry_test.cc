@@ -61,7 +61,7 @@ double PathLength(const std::vector<SE3d>& T) {
 }
 
 TEST(StereoOdometry, StartsAtTheFirstFrameWithMetricScale) {
-  const sim::CameraSimulation s = SimulateStereo(sim::SceneKind::kRoom, 60);
+  const sim::CameraSimulation s = SimulateStereo(sim::SceneKind::kRoom, 30);
   const std::vector<FrameInput> in = Inputs(s, true);
   MonocularOdometry vo(s.rig.K, StereoOptions(s));
   const MonocularFrameResult first = vo.AddFrame(in[0]);
