@@ -183,6 +183,21 @@ expect vo-rows 0 "^10$" -- bash -c "wc -l < '$T/vo.txt'"
 expect vo-json 0 '"keep_marginalized_lines": true' -- cat "$T/vo.json"
 expect vo-eval 0 "ATE translation" -- \
   "$PLUCKER" eval ate --gt "$T/cam/trajectory.txt" --est "$T/vo.txt" --align sim3
+# Stereo VO (docs/vo.md, "Stereo"): a second camera in the folder, metric from frame 0; a folder
+# without one is refused naming its rig.txt; the simulator refuses a fisheye stereo rig.
+expect sim-camera-stereo 0 "stereo +cam1 0.11 m" -- \
+  "$PLUCKER" sim camera --out "$T/stereo" --scene room --frames 10 --stereo 0.11
+expect vo-stereo 0 "10 frames \(initialised on frames 0 and 0\)" -- \
+  "$PLUCKER" vo --features "$T/stereo" --stereo --out "$T/vo_stereo.txt" --json "$T/vo_stereo.json"
+expect vo-stereo-json 0 '"scale": "metric"' -- cat "$T/vo_stereo.json"
+expect vo-stereo-eval-se3 0 "ATE translation" -- \
+  "$PLUCKER" eval ate --gt "$T/stereo/trajectory.txt" --est "$T/vo_stereo.txt" --align se3
+expect vo-stereo-no-cam1 nonzero "cam/rig.txt: --stereo: the folder has no second camera" -- \
+  "$PLUCKER" vo --features "$T/cam" --stereo --out "$T/vo_nostereo.txt"
+expect vo-stereo-needs-features nonzero "stereo" -- \
+  "$PLUCKER" vo --images "$T/cam" --stereo --out "$T/vo_nostereo.txt"
+expect sim-camera-stereo-kb nonzero "stereo needs a pinhole" -- \
+  "$PLUCKER" sim camera --out "$T/stereo_kb" --frames 3 --camera-model kb --stereo 0.11
 # Re-initialisation: frames 12-15 of a 30-frame room without observations (ids -1: outliers).
 expect sim-camera-30 0 "" -- "$PLUCKER" sim camera --out "$T/cam30" --scene room --frames 30
 cp -r "$T/cam30" "$T/cam_gap"

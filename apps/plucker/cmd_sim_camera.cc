@@ -31,6 +31,7 @@ struct SimCameraArgs {
   std::string camera_model = "pinhole";
   double view_fov = sim::kDefaultViewFovDeg;
   std::string points = "full";
+  double stereo = 0.0;  // baseline (m); 0: one camera
 };
 
 int Run(const SimCameraArgs& args) {
@@ -52,6 +53,7 @@ int Run(const SimCameraArgs& args) {
   if (args.motion == "fast") sim::MakeFast(&options.trajectory);
   if (args.camera_model == "kb")
     options.rig = sim::FisheyeRig(args.view_fov, args.points == "view");
+  if (args.stereo != 0.0) options.T_c0_c1 = sim::StereoPose(args.stereo);
   const sim::CameraSimulation sim = sim::SimulateCamera(options);
   io::WriteCameraImuSequence(args.out, sim::ToCameraImuSequence(sim));
 
@@ -80,6 +82,12 @@ int Run(const SimCameraArgs& args) {
   std::printf("  segments    %d observations + %d outliers (%.1f per frame)\n",
               st.num_segment_inliers, st.num_segment_outliers,
               static_cast<double>(st.num_segment_inliers + st.num_segment_outliers) / args.frames);
+  if (sim.cam1) {  // the default output unchanged
+    const sim::ObservationStats& s1 = sim.cam1_stats;
+    std::printf("  stereo      cam1 %g m along cam0's +x: %d point + %d segment observations\n",
+                args.stereo, s1.num_point_inliers + s1.num_point_outliers,
+                s1.num_segment_inliers + s1.num_segment_outliers);
+  }
   std::printf("  imu         %zu samples at %g Hz\n", sim.imu.size(), args.imu_rate);
   if (args.standing_start > 0.0 || args.motion != "normal") {  // the default output unchanged
     const sim::MotionStats m = sim::MeasureMotion(sim);
@@ -144,6 +152,10 @@ void RegisterSimCamera(CLI::App& sim, int* exit_code) {
                   "kb: points in the full fisheye image (raw pixels) or in the segments' view")
       ->check(CLI::IsMember({"full", "view"}))
       ->capture_default_str();
+  cmd->add_option("--stereo", args->stereo,
+                  "A stereo rig: a second pinhole camera BASELINE_M metres along the first's +x "
+                  "(e.g. 0.11, EuRoC-like), written to cam1_*.txt (docs/sim-format.md)")
+      ->check(CLI::Range(0.001, 10.0));
   cmd->callback(
       [args, exit_code]() { RunGuarded("sim camera", exit_code, [&] { return Run(*args); }); });
 }

@@ -53,8 +53,26 @@ struct VoArgs {
   double line_min_angle_deg = 5.0;
   double loss_scale = 1.5;
   int max_lost_frames = 3;  // consecutive lost frames before a re-initialisation
+  bool stereo = false;      // the folder's second camera (cam1_*.txt)
   bool quiet = false;
 };
+
+// --stereo: the second camera's observations of a features folder into the frames (the point
+// stride as the left's), and its extrinsic into the window; an error naming rig.txt without one.
+void AttachSecondCamera(const std::string& dir, const sensor::CameraImuSequence& seq, int stride,
+                        std::vector<window::FrameInput>* frames, VoConfig* config) {
+  const std::string rig = (std::filesystem::path(dir) / "rig.txt").string();
+  if (!seq.cam1) {
+    throw io::IoError(rig,
+                      "--stereo: the folder has no second camera (no T_c0_c1 and cam1_counts "
+                      "records, no cam1_points.txt / cam1_segments.txt; docs/sim-format.md)");
+  }
+  if (seq.rig.fisheye) throw io::IoError(rig, "--stereo: fisheye rigs are not supported");
+  for (const auto& p : seq.cam1->points)
+    if (p.point_id >= 0 && p.point_id % stride == 0) (*frames)[p.frame].right_points.push_back(p);
+  for (const auto& s : seq.cam1->segments) (*frames)[s.frame].right_segments.push_back(s);
+  config->window.T_c0_c1 = seq.cam1->T_c0_c1;
+}
 
 int Run(const VoArgs& a, VoConfig config) {
   SetUpProcess(ImagePipelineSetup(), cv::setNumThreads);  // one thread, front end on the heap
@@ -73,6 +91,7 @@ int Run(const VoArgs& a, VoConfig config) {
     sensor::CameraImuSequence seq = io::ReadCameraImuSequence(a.features);
     sensor::ToPinholeView(&seq);  // a fisheye rig's raw points into its view (fisheye_rig.h)
     frames = FeatureFrames(seq, a.point_stride);
+    if (a.stereo) AttachSecondCamera(a.features, seq, a.point_stride, &frames, &config);
     config.window.point_sigma_px = config.window.line_sigma_px =
         std::max(seq.observation_model.pixel_sigma, 0.5);
     vo = std::make_unique<odometry::MonocularOdometry>(seq.rig.K, config);
@@ -231,6 +250,10 @@ void RegisterVo(CLI::App& app, int* exit_code) {
                                          {no_fej, "window.first_estimate_jacobians", "false"},
                                          {no_conditioning, "window.condition_far_lines", "false"},
                                          {max_lost, "init.max_lost_frames", ""}};
+  cmd->add_flag("--stereo", args->stereo,
+                "Stereo VO with metric scale: the features folder's second camera (cam1_*.txt, "
+                "T_c0_c1 in rig.txt; `plucker sim camera --stereo`; docs/vo.md)")
+      ->needs(features);
   cmd->add_flag("--quiet", args->quiet, "No progress output (warnings are still printed)");
   cmd->callback([args, exit_code, flags]() {
     RunGuarded("vo", exit_code, [&] {

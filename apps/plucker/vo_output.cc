@@ -25,7 +25,7 @@ nlohmann::json MapJson(const odometry::MonocularMap& m) {
   return {{"frames", {m.first, m.second}},
           {"keyframes", m.keyframes},
           {"after_lost_frame", m.after_lost_frame},
-          {"scale", m.chained_baseline ? "chained" : "unit_baseline"},
+          {"scale", m.stereo ? "metric" : (m.chained_baseline ? "chained" : "unit_baseline")},
           {"baseline", m.chained_baseline.value_or(1.0)},
           {"points", m.points},
           {"lines", m.lines},

@@ -39,7 +39,7 @@ TEST(AnchoredLineFactor, JacobianChecksPass) {
   options.samples = 1000;
   options.seed = 11;
   const verify::JacobianCheckRun run =
-      verify::RunJacobianChecks(verify::FactorJacobianChecks(), "factor.line.Anchored", 3, options);
+      verify::RunJacobianChecks(verify::FactorJacobianChecks(), "factor.line.Anchored", 4, options);
   EXPECT_TRUE(run.ok()) << run.error;
   for (const verify::JacobianCheckStats& s : run.stats) {
     EXPECT_EQ(s.skipped, 1) << s.name;

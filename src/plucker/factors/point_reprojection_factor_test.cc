@@ -115,7 +115,7 @@ TEST(PointReprojectionFactor, JacobianChecksPass) {
   verify::JacobianCheckOptions options;
   options.samples = 1000;
   const verify::JacobianCheckRun run =
-      verify::RunJacobianChecks(verify::PointFactorJacobianChecks(), "factor.point.", 3, options);
+      verify::RunJacobianChecks(verify::PointFactorJacobianChecks(), "factor.point.", 4, options);
   EXPECT_TRUE(run.ok()) << run.error;
 }
 

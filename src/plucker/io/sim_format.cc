@@ -305,6 +305,7 @@ void ReadScene(const std::string& path, sensor::CameraImuGroundTruth* scene) {
 // line boundary).
 struct Counts {
   long long frames = 0, imu = 0, points = 0, segments = 0;
+  long long cam1_points = -1, cam1_segments = -1;  // -1: no second camera
 };
 
 void CheckCount(const std::string& path, std::size_t found, long long expected) {
@@ -350,7 +351,8 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
       {"image", 3},         {"intrinsics", 5},       {"T_b_c", 8},       {"imu_rate_hz", 2},
       {"imu_noise", 5},     {"imu_initial_bias", 7}, {"gravity", 4},     {"pixel_sigma", 2},
       {"outlier_ratio", 2}, {"min_segment_px", 2},   {"depth_range", 3}, {"observe", 3},
-      {"counts", 5},        {"equidistant", 5},      {"view", 8}};
+      {"counts", 5},        {"equidistant", 5},      {"view", 8},        {"T_c0_c1", 8},
+      {"cam1_counts", 3}};
   for (const auto& [key, record] : by_key) {
     const auto it = expected.find(key);
     if (it == expected.end()) p.Fail(*record, "unknown record '" + key + "'");
@@ -361,7 +363,8 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
     // The initial biases are ground truth: a folder without it may leave them out.
     // The fisheye records: both or neither (checked below).
     const bool optional = (key == "imu_initial_bias" && !sequence->ground_truth) ||
-                          key == "equidistant" || key == "view";
+                          key == "equidistant" || key == "view" || key == "T_c0_c1" ||
+                          key == "cam1_counts";
     if (!optional && !by_key.count(key)) throw IoError(path, "missing '" + key + "' record");
   }
   sensor::CameraRig& rig = sequence->rig;
@@ -419,6 +422,17 @@ void ReadRig(const std::string& path, sensor::CameraImuSequence* sequence, Count
   counts->imu = p.Int(c, 2, 0, LLONG_MAX);
   counts->points = p.Int(c, 3, 0, LLONG_MAX);
   counts->segments = p.Int(c, 4, 0, LLONG_MAX);
+  // A stereo rig's second camera: T_c0_c1 and cam1_counts, both or neither.
+  const bool has_T = by_key.count("T_c0_c1") > 0, has_counts = by_key.count("cam1_counts") > 0;
+  if (has_T != has_counts) {
+    throw IoError(path, std::string("missing '") + (has_T ? "cam1_counts" : "T_c0_c1") +
+                            "' record (a second camera needs both)");
+  }
+  if (!has_T) return;
+  sequence->cam1.emplace().T_c0_c1 = p.Pose(*by_key["T_c0_c1"], 1);
+  const Record& c1 = *by_key["cam1_counts"];
+  counts->cam1_points = p.Int(c1, 1, 0, LLONG_MAX);
+  counts->cam1_segments = p.Int(c1, 2, 0, LLONG_MAX);
 }
 
 // frames.txt: one time a row, one row a frame.
@@ -590,6 +604,11 @@ void WriteRig(const std::string& path, const std::string& header,
   w.Int(static_cast<long long>(sequence.imu.size()));
   w.Int(static_cast<long long>(sequence.points.size()));
   w.Int(static_cast<long long>(sequence.segments.size())).EndLine();
+  if (const auto& cam1 = sequence.cam1) {
+    w.Text("T_c0_c1").Pose(cam1->T_c0_c1).EndLine();
+    w.Text("cam1_counts").Int(static_cast<long long>(cam1->points.size()));
+    w.Int(static_cast<long long>(cam1->segments.size())).EndLine();
+  }
   w.Commit();
 }
 
@@ -650,16 +669,18 @@ void WriteImu(const std::string& path, const std::string& header,
 }
 
 void WriteObservations(const std::string& dir, const std::string& header,
-                       const sensor::CameraImuSequence& sequence) {
-  Writer p(Join(dir, "points.txt"));
+                       const std::vector<sensor::PointObservation>& points,
+                       const std::vector<sensor::SegmentObservation>& segments,
+                       const std::string& prefix = "") {
+  Writer p(Join(dir, prefix + "points.txt"));
   p.Text(header).Text("# frame point_id u v (point_id -1: outlier)\n");
-  for (const sensor::PointObservation& o : sequence.points) {
+  for (const sensor::PointObservation& o : points) {
     p.Int(o.frame).Int(o.point_id).Vec(o.uv).EndLine();
   }
   p.Commit();
-  Writer s(Join(dir, "segments.txt"));
+  Writer s(Join(dir, prefix + "segments.txt"));
   s.Text(header).Text("# frame line_id su sv eu ev (line_id -1: outlier)\n");
-  for (const sensor::SegmentObservation& o : sequence.segments) {
+  for (const sensor::SegmentObservation& o : segments) {
     s.Int(o.frame).Int(o.line_id).Vec(o.s_px).Vec(o.e_px).EndLine();
   }
   s.Commit();
@@ -668,9 +689,9 @@ void WriteObservations(const std::string& dir, const std::string& header,
 }  // namespace
 
 const std::vector<std::string>& CameraImuSequenceFileNames() {
-  static const std::vector<std::string> names = {"rig.txt",        "frames.txt",      "scene.txt",
-                                                 "trajectory.txt", "body_states.txt", "imu.txt",
-                                                 "points.txt",     "segments.txt"};
+  static const std::vector<std::string> names = {
+      "rig.txt", "frames.txt", "scene.txt",    "trajectory.txt",  "body_states.txt",
+      "imu.txt", "points.txt", "segments.txt", "cam1_points.txt", "cam1_segments.txt"};
   return names;
 }
 
@@ -697,7 +718,15 @@ void WriteCameraImuSequence(const std::string& dir, const sensor::CameraImuSeque
     }
   }
   WriteImu(Join(dir, "imu.txt"), header, sequence);
-  WriteObservations(dir, header, sequence);
+  WriteObservations(dir, header, sequence.points, sequence.segments);
+  if (sequence.cam1) {
+    WriteObservations(dir, header, sequence.cam1->points, sequence.cam1->segments, "cam1_");
+  } else {
+    // A previous sequence's second camera would be read as this one's.
+    for (const char* name : {"cam1_points.txt", "cam1_segments.txt"}) {
+      fs::remove(Join(dir, name), ec);
+    }
+  }
 }
 
 sensor::CameraImuSequence ReadCameraImuSequence(const std::string& dir) {
@@ -729,6 +758,17 @@ sensor::CameraImuSequence ReadCameraImuSequence(const std::string& dir) {
   ReadObservations(Join(dir, "points.txt"), Join(dir, "segments.txt"), &sequence);
   CheckCount(Join(dir, "points.txt"), sequence.points.size(), counts.points);
   CheckCount(Join(dir, "segments.txt"), sequence.segments.size(), counts.segments);
+  if (sequence.cam1) {
+    // The same validation as cam0's, into cam1 (ReadObservations appends to the sequence's).
+    std::swap(sequence.points, sequence.cam1->points);
+    std::swap(sequence.segments, sequence.cam1->segments);
+    ReadObservations(Join(dir, "cam1_points.txt"), Join(dir, "cam1_segments.txt"), &sequence);
+    std::swap(sequence.points, sequence.cam1->points);
+    std::swap(sequence.segments, sequence.cam1->segments);
+    CheckCount(Join(dir, "cam1_points.txt"), sequence.cam1->points.size(), counts.cam1_points);
+    CheckCount(Join(dir, "cam1_segments.txt"), sequence.cam1->segments.size(),
+               counts.cam1_segments);
+  }
   return sequence;
 }
 

@@ -15,6 +15,10 @@ void MonocularOdometryOptions::Check() const {
   start.Check();
   if (max_lost_frames < 1)
     throw std::invalid_argument("MonocularOdometryOptions: max_lost_frames < 1");
+  if (min_stereo_landmarks < 1)
+    throw std::invalid_argument("MonocularOdometryOptions: min_stereo_landmarks < 1");
+  if (window.T_c0_c1 && window.inertial)
+    throw std::invalid_argument("MonocularOdometryOptions: stereo without the inertial mode");
 }
 
 const char* ToString(MonocularStatus status) {
@@ -176,9 +180,53 @@ struct MonocularOdometry::Impl {
     }
   }
 
+  // After a start at frame i: the buffered frames after b tracked (or buffered again when the
+  // tracking lost the map meanwhile).
+  void CatchUp(const window::StageObserver& observer) {
+    std::vector<FrameInput> rest(buffer.begin() + (b + 1 - from), buffer.end());
+    buffer.clear();
+    for (std::size_t k = 0; k < rest.size(); ++k) {
+      const int f = b + 1 + static_cast<int>(k);
+      if (searching)
+        buffer.push_back(std::move(rest[k]));
+      else
+        Track(f, rest[k], observer);
+    }
+  }
+
+  // Stereo (window.T_c0_c1): a start is one frame's left-right pairs (metric; no two-view
+  // search), tried on each buffered frame in turn, put where the previous map's motion leads.
+  void StereoSearch(const window::StageObserver& observer) {
+    while (searching && next_first <= last()) {
+      const int i = next_first;
+      estimator.reset();
+      auto map = std::make_unique<SlidingWindowEstimator>(K, options.window);
+      const window::InitializationResult init =
+          map->InitializeStereo(buffer[i - from], Where(i).T_w_a, options.min_stereo_landmarks);
+      if (!init.ok) {
+        message = "frame " + std::to_string(i) + ": " + std::to_string(init.points + init.lines) +
+                  " landmarks from its left-right pairs (fewer than " +
+                  std::to_string(options.min_stereo_landmarks) + ")";
+        ++next_first;
+        continue;
+      }
+      MonocularStart start;
+      start.estimator = std::move(map);
+      start.keyframes = {0};
+      start.init = init;
+      Begin(std::move(start), i);
+      maps.back().stereo = true;
+      CatchUp(observer);
+    }
+  }
+
   // The start search as far as the frames buffered allow (all of them at the end of the input),
   // then the catch-up of the frames after b.
   void Search(bool final, const window::StageObserver& observer) {
+    if (options.window.T_c0_c1) {
+      StereoSearch(observer);
+      return;
+    }
     while (searching) {
       const int n = static_cast<int>(buffer.size());
       if (final && n <= 1 && estimator) {  // a loss at one of the last two frames: no new start
@@ -198,15 +246,7 @@ struct MonocularOdometry::Impl {
         continue;
       }
       Begin(std::move(*start), i);
-      std::vector<FrameInput> rest(buffer.begin() + (b + 1 - from), buffer.end());
-      buffer.clear();
-      for (std::size_t k = 0; k < rest.size(); ++k) {
-        const int f = b + 1 + static_cast<int>(k);
-        if (searching)
-          buffer.push_back(std::move(rest[k]));
-        else
-          Track(f, rest[k], observer);
-      }
+      CatchUp(observer);
     }
   }
 

@@ -48,6 +48,11 @@ struct MonocularOdometryOptions {
   vision::ImageFrontendOptions frontend;
   MonocularStartOptions start;
   int max_lost_frames = 3;  // lost frames in a row before a new start (re-initialisation)
+  // Stereo (window.T_c0_c1 set; FrameInput::right_points, right_segments): a start is one
+  // frame's left-right pairs, triangulated at once (metric scale, no two-view search, `start`
+  // unused), with at least this many landmarks; a restart is put where the previous map's last
+  // motion leads (no scale to chain).
+  int min_stereo_landmarks = 20;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -103,6 +108,7 @@ struct MonocularMap {
   std::optional<double> chained_baseline;  // |t_ab| chained to the previous map (else 1)
   int points = 0, lines = 0, tries = 0;
   double chi2_z = 0.0;
+  bool stereo = false;  // a stereo start (first == second): metric, nothing chained
 };
 
 struct MonocularSummary {

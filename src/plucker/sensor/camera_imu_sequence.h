@@ -37,6 +37,16 @@ struct CameraImuGroundTruth {
   Eigen::AlignedBox3d free_space_w;       // where the body moves
 };
 
+// The second camera of a stereo rig (docs/sim-format.md: cam1_points.txt, cam1_segments.txt):
+// the same intrinsics and image size as the rig's camera (cam0), mounted at T_c0_c1 (cam1 in
+// cam0's frame; Kalibr's T_cn_cnm1 is its inverse, T_c1_c0), its observations with cam0's track
+// ids (the same scene point or segment: a left-right match).
+struct SecondCamera {
+  SE3d T_c0_c1;
+  std::vector<PointObservation> points;      // sorted by frame
+  std::vector<SegmentObservation> segments;  // sorted by frame
+};
+
 struct CameraImuSequence {
   CameraRig rig;
   ImuModel imu_model;
@@ -47,6 +57,7 @@ struct CameraImuSequence {
   std::vector<PointObservation> points;        // sorted by frame
   std::vector<SegmentObservation> segments;    // sorted by frame
   std::optional<CameraImuGroundTruth> ground_truth;
+  std::optional<SecondCamera> cam1;  // a stereo rig's second camera
 };
 
 }  // namespace sensor

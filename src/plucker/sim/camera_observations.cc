@@ -35,6 +35,12 @@ sensor::CameraRig DefaultRig() {
   return rig;
 }
 
+SE3d StereoPose(double baseline_m) {
+  if (!std::isfinite(baseline_m) || baseline_m == 0.0)
+    throw std::invalid_argument("stereo: the baseline must be finite and non-zero");
+  return SE3d(Eigen::Quaterniond::Identity(), Vector3d(baseline_m, 0.0, 0.0));
+}
+
 sensor::CameraRig FisheyeRig(double view_fov_deg, bool points_in_view) {
   if (!(view_fov_deg > 0.0 && view_fov_deg < 170.0)) {
     throw std::invalid_argument("fisheye rig: the view's field of view must be in (0, 170) deg");
@@ -332,6 +338,16 @@ CameraSimulation SimulateCamera(const CameraSimulationOptions& options) {
   sim.points = std::move(obs.points);
   sim.segments = std::move(obs.segments);
   sim.stats = obs.stats;
+  if (options.T_c0_c1) {
+    if (options.rig.fisheye) throw std::invalid_argument("SimulateCamera: stereo needs a pinhole");
+    const SE3d T_c0_c1 = CanonicalPose(*options.T_c0_c1);
+    std::vector<SE3d> T_w_c1;
+    for (const SE3d& T_w_c0 : sim.T_w_c_gt) T_w_c1.push_back(T_w_c0 * T_c0_c1);
+    CameraObservations right =
+        ObserveScene(sim.scene, sim.rig, T_w_c1, options.obs, DeriveSeed(options.seed, 4));
+    sim.cam1 = sensor::SecondCamera{T_c0_c1, std::move(right.points), std::move(right.segments)};
+    sim.cam1_stats = right.stats;
+  }
   return sim;
 }
 
@@ -345,6 +361,7 @@ sensor::CameraImuSequence ToCameraImuSequence(const CameraSimulation& simulation
   out.imu = simulation.imu;
   out.points = simulation.points;
   out.segments = simulation.segments;
+  out.cam1 = simulation.cam1;
   sensor::CameraImuGroundTruth& gt = out.ground_truth.emplace();
   gt.T_w_c = simulation.T_w_c_gt;
   gt.T_w_b = simulation.T_w_b_gt;

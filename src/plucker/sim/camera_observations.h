@@ -112,6 +112,10 @@ struct CameraSimulation {
   std::vector<sensor::SegmentObservation> segments;
   std::vector<sensor::ImuSample> imu;
   ObservationStats stats;
+  // CameraSimulationOptions::T_c0_c1: the second camera's observations (its own noise stream),
+  // with their statistics.
+  std::optional<sensor::SecondCamera> cam1;
+  ObservationStats cam1_stats;
 };
 
 struct CameraSimulationOptions {
@@ -124,7 +128,14 @@ struct CameraSimulationOptions {
   double frame_rate_hz = 10.0;
   bool simulate_imu = true;
   std::uint64_t seed = 1;
+  // A stereo rig: a second camera with the rig's pinhole and image at T_c0_c1 (cam1 in cam0's
+  // frame; StereoPose(b): b metres along cam0's +x, EuRoC-like for b = 0.11), observing the same
+  // scene (pinhole rigs only). Unset: no second camera, the output as without the option.
+  std::optional<SE3d> T_c0_c1;
 };
+
+// The second camera of a stereo rig `baseline_m` along the first camera's +x, axes parallel.
+SE3d StereoPose(double baseline_m);
 
 // Scene, trajectory, IMU and observations, each from its own stream derived from options.seed.
 // Frame i is at t_i = i / frame_rate_hz. Throws std::invalid_argument for invalid options.

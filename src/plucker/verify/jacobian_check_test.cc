@@ -31,8 +31,8 @@ INSTANTIATE_TEST_SUITE_P(Registry, AllChecks, ::testing::ValuesIn(AllJacobianChe
 // The parameterised test above runs whatever the registry holds; this pins how much that is.
 TEST(Registry, HoldsEveryCheck) {
   EXPECT_EQ(GeometryJacobianChecks().size(), 15u);
-  EXPECT_EQ(FactorJacobianChecks().size(), 16u);
-  EXPECT_EQ(AllJacobianChecks().size(), 31u);
+  EXPECT_EQ(FactorJacobianChecks().size(), 18u);
+  EXPECT_EQ(AllJacobianChecks().size(), 33u);
 }
 
 // Ridders' differences against the exact derivative of a function that varies on a scale of
@@ -63,7 +63,7 @@ TEST(RunJacobianChecks, FailsOnEmptyOrUnexpectedSelection) {
   const JacobianCheckRun too_many =
       RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 2, options);
   EXPECT_FALSE(too_many.ok());
-  EXPECT_EQ(too_many.stats.size(), 7u);  // four reprojection, two anchored, one time offset
+  EXPECT_EQ(too_many.stats.size(), 8u);  // four reprojection, two anchored, time offset, stereo
   const JacobianCheckRun exact =
       RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 7, options);
   EXPECT_TRUE(exact.ok()) << exact.error;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "plucker/factors/anchored_line_factor.h"
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/line_manifold.h"
 #include "plucker/factors/line_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
@@ -48,6 +49,7 @@ struct LineFactorSample {
   LineAnchor anchor;  // the anchored factor's: the line block is in this frame
   // The time-offset factor's endpoint velocities (px/s); its td is the block before the line.
   Eigen::Vector2d v_s = Eigen::Vector2d::Zero(), v_e = Eigen::Vector2d::Zero();
+  SE3d held;  // the stereo check's extrinsic T_c0_c1, held (not a block)
 };
 
 // A parameter block of size n: a pose or an orthonormal line.
@@ -181,6 +183,15 @@ LineFactorSample AnchoredVITimeOffsetSample(Rng& rng, int i) {
   return smp;
 }
 
+// The stereo right camera's factor (window/window_stereo.cc): the anchored VI sample with its
+// extrinsic held as T_c0_c1, on (T_w_c0, line).
+LineFactorSample StereoRightSample(Rng& rng, int i) {
+  LineFactorSample smp = AnchoredVISample(rng, i);
+  smp.held = SE3d::FromParameters(smp.blocks[1].data());
+  smp.blocks.erase(smp.blocks.begin() + 1);
+  return smp;
+}
+
 using CreateFn = std::function<ceres::CostFunction*(const LineFactorSample&)>;
 using PlainCreateFn = ceres::CostFunction* (*)(const PinholeIntrinsics&, const Eigen::Vector2d&,
                                                const Eigen::Vector2d&, const Eigen::Matrix2d&);
@@ -199,6 +210,12 @@ CreateFn AnchoredVI(bool autodiff) {
     return autodiff
                ? AnchoredLineFactorVI::CreateAutoDiff(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor)
                : AnchoredLineFactorVI::Create(s.K, s.s_px, s.e_px, s.sqrt_info, s.anchor);
+  };
+}
+
+CreateFn StereoRight(bool autodiff) {
+  return [autodiff](const LineFactorSample& s) -> ceres::CostFunction* {
+    return new HeldExtrinsicFactor<6>(AnchoredVI(autodiff)(s), s.held);
   };
 }
 
@@ -268,6 +285,8 @@ std::vector<NamedJacobianCheck> LineFactorJacobianChecks() {
                       AnchoredVI(true), true),
       LineFactorCheck("factor.line.AnchoredVI.time_offset", 206, AnchoredVITimeOffsetSample,
                       AnchoredVITimeOffset(false), AnchoredVITimeOffset(true), true),
+      LineFactorCheck("factor.line.AnchoredStereoRight.tangent", 207, StereoRightSample,
+                      StereoRight(false), StereoRight(true), true),
   };
 }
 

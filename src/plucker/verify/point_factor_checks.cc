@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "plucker/factors/held_extrinsic_factor.h"
 #include "plucker/factors/point_reprojection_factor.h"
 #include "plucker/factors/pose_manifold.h"
 #include "plucker/factors/time_offset_factor.h"
@@ -83,9 +84,11 @@ std::string Describe(int i) {
 
 // The check of the factor made by create / create_autodiff: a pose (T_w_c, or T_w_b and T_b_c
 // with vi) and the world point.
+// With `held` (the stereo right camera's factor, window/window_stereo.cc): the VI factor with
+// T_b_c held as the extrinsic T_c0_c1 (HeldExtrinsicFactor), on (T_w_b = T_w_c0, p_w).
 template <typename Create>
 NamedJacobianCheck PointFactorCheck(const std::string& name, std::uint64_t seed, bool vi,
-                                    Create create, Create create_autodiff) {
+                                    Create create, Create create_autodiff, bool held = false) {
   return {name, [=](const JacobianCheckOptions& o) {
             const PoseManifold pose;
             return RunCostFunctionCheck(name, seed, o, [&](Rng& rng, int i) {
@@ -93,8 +96,13 @@ NamedJacobianCheck PointFactorCheck(const std::string& name, std::uint64_t seed,
               CostFunctionSample c;
               c.analytic.reset(create(s.K, s.uv, s.sqrt_information));
               c.autodiff.reset(create_autodiff(s.K, s.uv, s.sqrt_information));
-              const std::vector<SE3d> poses =
-                  vi ? std::vector<SE3d>{s.T_w_b, s.T_b_c} : std::vector<SE3d>{s.T_w_b * s.T_b_c};
+              if (held) {
+                c.analytic.reset(new HeldExtrinsicFactor<3>(c.analytic.release(), s.T_b_c));
+                c.autodiff.reset(new HeldExtrinsicFactor<3>(c.autodiff.release(), s.T_b_c));
+              }
+              const std::vector<SE3d> poses = held ? std::vector<SE3d>{s.T_w_b}
+                                                   : (vi ? std::vector<SE3d>{s.T_w_b, s.T_b_c}
+                                                         : std::vector<SE3d>{s.T_w_b * s.T_b_c});
               for (const SE3d& T : poses) {
                 c.x.emplace_back(7);
                 T.ToParameters(c.x.back().data());
@@ -157,7 +165,9 @@ std::vector<NamedJacobianCheck> PointFactorJacobianChecks() {
                        &PointReprojectionFactor::CreateAutoDiff),
       PointFactorCheck("factor.point.ReprojectionVI", 202, true, &PointReprojectionFactorVI::Create,
                        &PointReprojectionFactorVI::CreateAutoDiff),
-      PointTimeOffsetCheck("factor.point.ReprojectionVI.time_offset", 203)};
+      PointTimeOffsetCheck("factor.point.ReprojectionVI.time_offset", 203),
+      PointFactorCheck("factor.point.StereoRight", 204, true, &PointReprojectionFactorVI::Create,
+                       &PointReprojectionFactorVI::CreateAutoDiff, true)};
 }
 
 }  // namespace verify

@@ -57,6 +57,7 @@ void LandmarkPrior::MarginalizeOldest(Impl& w, WindowFrameResult* result) const 
         rest.push_back(std::move(r));
         continue;
       }
+      if (r.right) continue;  // stereo: a retained pose holds left observations only (dropped)
       if (!k0_retained) k0_retained = std::make_unique<RetainedPose>();
       k0_retained->segments.push_back(f0->input.segments[r.observation]);
       ++result->held_line_observations;

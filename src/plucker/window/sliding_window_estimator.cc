@@ -29,6 +29,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     throw std::invalid_argument("SlidingWindowEstimator: max_keyframe_interval_s < 0");
   if (!(options.keyframe_max_rotation_deg >= 0.0))
     throw std::invalid_argument("SlidingWindowEstimator: keyframe_max_rotation_deg < 0");
+  if (options.T_c0_c1 && options.inertial)
+    throw std::invalid_argument("SlidingWindowEstimator: stereo is not for the inertial mode");
   impl_->K = K;
   impl_->opt = options;
   impl_->loss = factors::MakeLossFunction(options.loss, options.loss_scale);

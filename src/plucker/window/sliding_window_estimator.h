@@ -244,6 +244,15 @@ struct SlidingWindowOptions {
   double max_line_sigma_ratio = 0.2;  // reject ill-conditioned N-view lines (sigma3 / sigma2)
   MarginalizationOptions marginalization;
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
+  // Stereo mode (docs/vo.md, "Stereo"): the second camera (same K) at T_c0_c1 in the frame of
+  // the camera whose poses the window estimates. Its observations (FrameInput::right_points,
+  // right_segments: the left's track ids) are triangulated with the left's (a landmark from one
+  // keyframe's left-right pair, metric) and enter the window and the marginalization as the
+  // verified VI factors with the extrinsic held at T_c0_c1 (PointReprojectionFactorVI,
+  // AnchoredLineFactorVI through HeldExtrinsicFactor); a right observation is used only with an
+  // inlier left observation of its track in the same frame, and culled with it. Tracking uses the
+  // left observations only. Not with the inertial mode (the constructor throws).
+  std::optional<SE3d> T_c0_c1;
 };
 
 // One frame's input: the observations with their track ids (sensor/camera_observations.h, from
@@ -259,6 +268,10 @@ struct FrameInput {
   std::optional<SE3d> T_w_c_prior;
   Eigen::Matrix<double, 6, 6> prior_sqrt_information = Eigen::Matrix<double, 6, 6>::Identity();
   bool stationary = false;  // inertial mode: the caller saw no image motion (see InertialOptions)
+  // Stereo mode (SlidingWindowOptions::T_c0_c1): the second camera's observations, with the
+  // track ids of the matching left observations; ignored otherwise.
+  std::vector<sensor::PointObservation> right_points;
+  std::vector<sensor::SegmentObservation> right_segments;
 };
 
 struct WindowFrameResult {
@@ -339,6 +352,12 @@ class SlidingWindowEstimator {
   // sizes differ, N < 2 or N > window_size, and std::logic_error in the inertial mode.
   InitializationResult Initialize(const std::vector<FrameInput>& frames,
                                   const std::vector<SE3d>& T_w_c, int min_landmarks = 10);
+  // Stereo mode: starts the window with one keyframe at a known pose, its landmarks triangulated
+  // from its left-right pairs (metric), solved with the pose held. Fails (ok = false, state
+  // cleared) with fewer than `min_landmarks` landmarks. Throws std::logic_error outside the
+  // stereo mode.
+  InitializationResult InitializeStereo(const FrameInput& frame, const SE3d& T_w_c,
+                                        int min_landmarks = 10);
   bool initialized() const;
 
   // Visual-inertial mode. AddImu appends IMU samples (times increasing across calls; throws

@@ -34,7 +34,8 @@ InitializationResult SlidingWindowEstimator::Impl::StartWindow(int min_landmarks
     Clear();
     return result;
   }
-  prev_T_w_c = keyframes[keyframes.size() - 2]->T_w_c();
+  // One keyframe (a stereo start): no motion yet.
+  prev_T_w_c = keyframes[keyframes.size() > 1 ? keyframes.size() - 2 : 0]->T_w_c();
   last_T_w_c = result.T_w_b;
   return result;
 }

@@ -17,6 +17,7 @@
 //   marginalization_strategy_internal.h, landmark_prior_marginalization.cc,
 //   poses_only_marginalization.cc    the two ways to marginalize the oldest keyframe
 //   window_initialization.cc         the four initialisation entry points
+//   window_stereo.cc                 stereo mode: right observations, their residuals, the start
 //   window_diagnostics.cc            per-frame counts, the IMU chi-square, the pose covariance
 #pragma once
 
@@ -48,6 +49,9 @@ struct Frame {
   double pose[7];                     // T_w_c, or T_w_b in the inertial mode
   std::vector<char> point_outlier;    // per input.points
   std::vector<char> segment_outlier;  // per input.segments
+  // Stereo mode: per input.points / input.segments, the index of the same track's observation in
+  // input.right_points / right_segments, or -1.
+  std::vector<int> right_point, right_segment;
   // With the time offset estimated: the observations whose image velocity the window filled in
   // (not given by the caller), per input.points / input.segments.
   std::vector<char> point_velocity_filled, segment_velocity_filled;
@@ -109,6 +113,7 @@ struct ResidualSpec {
   Frame* frame = nullptr;
   int observation = -1;
   bool is_point = true;
+  bool right = false;  // stereo: the second camera's observation of the left one `observation`
 };
 
 // Where an observation residual of the window problem came from (for culling).
@@ -270,6 +275,16 @@ struct SlidingWindowEstimator::Impl {
   void RememberObservations(const FrameInput& input);
   // The prior r = (td - time_offset_s) / time_offset_prior_sigma_s.
   ceres::CostFunction* TimeOffsetPrior() const;
+
+  // --- window_stereo.cc: SlidingWindowOptions::T_c0_c1 ---------------------------------------
+  // The frame's valid right observations of the tracks it observes on the left, and the index
+  // maps (Frame::right_point, right_segment).
+  void AttachRight(Frame* f, const FrameInput& input) const;
+  // The right camera's pose of a keyframe (stereo mode).
+  SE3d RightPose(const Frame& f) const { return f.T_w_c() * *opt.T_c0_c1; }
+  // The right observations of the left inliers whose landmark exists, on (pose, landmark).
+  void AppendRightResiduals(Frame* f, bool with_points, bool with_lines,
+                            std::vector<ResidualSpec>* out) const;
 
   // --- window_tracking.cc: predict and track --------------------------------------------------
   // The pose (and, inertial, state) of the next frame: the caller's guess, the IMU from the

@@ -77,6 +77,7 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
       out->push_back(std::move(r));
     }
   }
+  AppendRightResiduals(f, with_points, with_lines, out);
   if (f->input.T_w_c_prior) {
     ResidualSpec r;
     r.cost.reset(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(

@@ -39,6 +39,7 @@ std::unique_ptr<Frame> SlidingWindowEstimator::Impl::MakeFrame(const FrameInput&
   }
   f->point_outlier.assign(f->input.points.size(), 0);
   f->segment_outlier.assign(f->input.segments.size(), 0);
+  AttachRight(f.get(), input);
   FillVelocities(f.get());
   if (opt.inertial) f->T_b_c = T_b_c;
   f->SetCameraPose(T_w_c);
@@ -99,6 +100,13 @@ void SlidingWindowEstimator::Impl::RemoveWeakLandmarks() {
       if (!f->point_outlier[i]) ++point_count[f->input.points[i].point_id];
     for (std::size_t i = 0; i < f->input.segments.size(); ++i)
       if (!f->segment_outlier[i]) ++line_count[f->input.segments[i].line_id];
+    // Stereo: the right observation of an inlier is a second view.
+    for (std::size_t i = 0; i < f->right_point.size(); ++i)
+      if (f->right_point[i] >= 0 && !f->point_outlier[i])
+        ++point_count[f->input.points[i].point_id];
+    for (std::size_t i = 0; i < f->right_segment.size(); ++i)
+      if (f->right_segment[i] >= 0 && !f->segment_outlier[i])
+        ++line_count[f->input.segments[i].line_id];
   }
   for (const auto& rp : retained)
     for (const auto& seg : rp->segments) ++line_count[seg.line_id];

@@ -21,6 +21,10 @@ void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, 
         if (kf->input.points[i].point_id != obs.point_id || kf->point_outlier[i]) continue;
         poses.push_back(kf->T_w_c());
         uvs.push_back(kf->input.points[i].uv);
+        if (kf->right_point.size() > i && kf->right_point[i] >= 0) {  // stereo
+          poses.push_back(RightPose(*kf));
+          uvs.push_back(kf->input.right_points[kf->right_point[i]].uv);
+        }
         break;
       }
     }
@@ -41,6 +45,10 @@ void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, 
         const auto& s = kf->input.segments[i];
         if (s.line_id != obs.line_id || kf->segment_outlier[i]) continue;
         views.push_back({kf->T_w_c(), s.s_px, s.e_px});
+        if (kf->right_segment.size() > i && kf->right_segment[i] >= 0) {  // stereo
+          const auto& rs = kf->input.right_segments[kf->right_segment[i]];
+          views.push_back({RightPose(*kf), rs.s_px, rs.e_px});
+        }
         break;
       }
     }
