@@ -1,5 +1,6 @@
 #include "plucker/io/png_gray.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -56,12 +57,16 @@ bool Unfilter(const std::uint8_t* rows, int width, int height, std::uint8_t* out
           o[i] = static_cast<std::uint8_t>(x[i] + ((o[i - 1] + up[i]) >> 1));
         break;
       case 4: {
+        // The predictor: a if pa <= min(pb, pc), else b if pb <= pc, else c; written as two
+        // selections without branches (the left neighbour chains the pixels of a row).
         int a = 0, c = 0;  // left and upper left (0 before the first column)
         for (int i = 0; i < width; ++i) {
           const int b = up[i];
           const int pa = std::abs(b - c), pb = std::abs(a - c), pc = std::abs(a + b - 2 * c);
-          const int predicted = (pa <= pb && pa <= pc) ? a : (pb <= pc ? b : c);
-          a = o[i] = static_cast<std::uint8_t>(x[i] + predicted);
+          const int b_or_c = pb <= pc ? b : c;
+          const int predicted = pa <= std::min(pb, pc) ? a : b_or_c;
+          a = static_cast<std::uint8_t>(x[i] + predicted);
+          o[i] = static_cast<std::uint8_t>(a);
           c = b;
         }
         break;
