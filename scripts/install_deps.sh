@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev  # images, line detectors and descriptors (vision, io)
   librosbag-storage-dev libsensor-msgs-dev  # ROS 1 bags without ROS (bag)
   libsqlite3-dev  # ROS 2 .db3 bags (bag)
+  libdeflate-dev  # the fast 8-bit gray PNG read (io/png_gray.h)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh)
   pybind11-dev python3-dev python3-numpy  # the plucker Python package (python/)

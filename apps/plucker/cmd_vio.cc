@@ -74,6 +74,7 @@ bool Feed(const VioInput& in, const VioItem& item, odometry::VisualInertialOdome
     nlohmann::json info = {{"image", item.name},
                            {"observed_points", r.observed_points},
                            {"observed_segments", r.observed_segments}};
+    info["ms"]["read"] = frontend_total;  // the image file (decoded in the stream for a bag)
     for (int k = 0; k < vision::kNumFrontendStages; ++k) {
       info["ms"][kFrontendStageNames[k]] = frontend_ms.ms(k);
       frontend_total += frontend_ms.ms(k);

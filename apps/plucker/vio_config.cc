@@ -95,6 +95,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.max_point_tracks));
   t.Value(SharedVisualOption("points.min_distance_px"),
           PLUCKER_OPTION_MEMBER(odometry.point_min_distance_px));
+  t.Value(SharedVisualOption("points.detect_below_share"),
+          PLUCKER_OPTION_MEMBER(odometry.point_detect_below_share));
   t.Value(SharedVisualOption("lines.max_segments"),
           PLUCKER_OPTION_MEMBER(odometry.line_max_segments));
   t.Value(SharedVisualOption("lines.detection_scale"),

@@ -18,6 +18,9 @@ const std::vector<OptionSpec>& SharedSpecs() {
        Between(0.0, 1.0)},
       {"points.max_tracks", "", "live point tracks kept (images)", AtLeast(1)},
       {"points.min_distance_px", "px", "between point tracks (images)", AtLeast(0.0)},
+      {"points.detect_below_share", "",
+       "new corners only when fewer than this share of points.max_tracks survived (1: always)",
+       Range{0.0, 1.0, true}},
       {"lines.max_segments", "", "longest segments kept per image (0: all)", AtLeast(0)},
       {"lines.detection_scale", "", "image scale of the segment detection", Range{0.0, 1.0, true}},
       {"lines.flow_samples", "", "points per segment followed by optical flow (0: no flow gate)",
@@ -106,6 +109,8 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(frontend.points.target_count));
   t.Value(SharedVisualOption("points.min_distance_px"),
           PLUCKER_OPTION_MEMBER(frontend.points.min_distance_px));
+  t.Value(SharedVisualOption("points.detect_below_share"),
+          PLUCKER_OPTION_MEMBER(frontend.points.detect_below_share));
   t.Value("points.ransac_threshold_px", "px", "epipolar RANSAC threshold", Above(0.0),
           PLUCKER_OPTION_MEMBER(frontend.points.ransac_threshold_px));
   t.Value(SharedVisualOption("lines.max_segments"), PLUCKER_OPTION_MEMBER(frontend.max_segments));

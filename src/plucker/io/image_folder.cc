@@ -5,8 +5,13 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+
+#include "plucker/io/png_gray.h"
 
 namespace plucker {
 namespace io {
@@ -35,6 +40,22 @@ int ReducedFlag(int reduction, const std::string& path) {
     default:
       throw IoError(path, "image reduction " + std::to_string(reduction) + " is not 1, 2, 4 or 8");
   }
+}
+
+// The one-pass decode of an 8-bit gray PNG (png_gray.h), or an empty image for every other file
+// (and any problem), which then goes through cv::imread as before.
+cv::Mat FastGrayPng(const std::string& path) {
+  if (!HasFastGrayPng() || Lower(std::filesystem::path(path).extension().string()) != ".png") {
+    return {};
+  }
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  if (size <= 0) return {};
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) return {};
+  const std::optional<cv::Mat> image = DecodeGrayPng(bytes.data(), bytes.size());
+  return image ? *image : cv::Mat();
 }
 
 }  // namespace
@@ -70,7 +91,8 @@ cv::Mat ReadGrayImage(const std::string& path, int reduction) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw IoError(path, "no such image file");
   if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path, "not a regular file");
-  cv::Mat image;
+  cv::Mat image = reduction == 1 ? FastGrayPng(path) : cv::Mat();
+  if (!image.empty()) return image;
   try {
     image = cv::imread(path, flag);
   } catch (const cv::Exception& e) {

@@ -24,12 +24,14 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
       !(init_gyro_bias_bound >= 0.0) || !(image_still_span_s >= 0.0) ||
       !(keyframe_max_rotation_deg >= 0.0) || !(tracking_velocity_sigma >= 0.0) ||
-      max_point_tracks < 1 || !(point_min_distance_px >= 0.0) || line_max_segments < 0 ||
-      !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) || line_flow_samples < 0 ||
-      line_flow_samples > 1000) {
+      max_point_tracks < 1 || !(point_min_distance_px >= 0.0) ||
+      !(point_detect_below_share > 0.0 && point_detect_below_share <= 1.0) ||
+      line_max_segments < 0 || !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) ||
+      line_flow_samples < 0 || line_flow_samples > 1000) {
     return "an option is out of range (window >= 2, init_min_keyframes >= 4, init_max_keyframes "
            ">= init_min_keyframes, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
-           "point_min_distance_px >= 0, 0 < line_detection_scale <= 1, line_flow_samples in "
+           "point_min_distance_px >= 0, 0 < point_detect_below_share <= 1, 0 < "
+           "line_detection_scale <= 1, line_flow_samples in "
            "[0, 1000])";
   }
   if (!(extrinsic_rotation_sigma > 0.0) || !(extrinsic_translation_sigma > 0.0) ||
@@ -124,6 +126,7 @@ vision::ImageFrontendOptions FrontendOptions(const VisualInertialOdometryOptions
   o.use_lines = c.use_lines;
   o.points.target_count = c.max_point_tracks;
   o.points.min_distance_px = c.point_min_distance_px;
+  o.points.detect_below_share = c.point_detect_below_share;
   o.max_segments = c.line_max_segments;
   o.detection_scale = c.line_detection_scale;
   o.lines.flow_samples = c.line_flow_samples;

@@ -92,9 +92,10 @@ struct VisualInertialOdometryOptions {
   // Image front end of AddImage: the speed settings of `plucker vo --images` (docs/vo.md).
   int max_point_tracks = 200;
   double point_min_distance_px = 20.0;
-  int line_max_segments = 60;         // longest segments kept per image (0: all)
-  double line_detection_scale = 0.5;  // image scale of the segment detection
-  int line_flow_samples = 3;          // points per segment followed by optical flow
+  double point_detect_below_share = 1.0;  // new corners only under this share of the tracks
+  int line_max_segments = 60;             // longest segments kept per image (0: all)
+  double line_detection_scale = 0.5;      // image scale of the segment detection
+  int line_flow_samples = 3;              // points per segment followed by optical flow
   // Online estimation of the camera-body extrinsic (window::InertialOptions, docs/vio.md), with
   // a prior on the given T_b_c (sigmas in rad and m); held until the window has rotated this much
   // about two axes (0: free from the start).

@@ -16,6 +16,9 @@ namespace {
 void CheckOptions(const PointTrackerOptions& o) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("PointTracker: " + what); };
   if (o.target_count < 1) fail("target_count must be >= 1");
+  if (!(o.detect_below_share > 0 && o.detect_below_share <= 1)) {
+    fail("detect_below_share must be in (0, 1]");
+  }
   if (!(o.min_distance_px >= 0)) fail("min_distance_px must be >= 0");
   if (!(o.quality_level > 0 && o.quality_level < 1)) fail("quality_level must be in (0, 1)");
   if (o.block_size < 1) fail("block_size must be >= 1");
@@ -167,10 +170,12 @@ void PointTracker::RejectEpipolarOutliers(std::vector<cv::Point2f>* prev_points,
 }
 
 void PointTracker::Detect(const cv::Mat& image, PointTrackerFrame* out) {
-  const int wanted = options_.target_count - static_cast<int>(out->observations.size());
-  if (wanted <= 0) return;
+  const int tracked = static_cast<int>(out->observations.size());
+  const int wanted = options_.target_count - tracked;
+  if (wanted <= 0 || tracked >= options_.detect_below_share * options_.target_count) return;
   const int b = options_.border_px;
   if (image.cols <= 2 * b + 1 || image.rows <= 2 * b + 1) return;
+  out->stats.detection_run = true;
   cv::Mat mask(image.size(), CV_8UC1, cv::Scalar(0));
   mask(cv::Rect(b, b, image.cols - 2 * b, image.rows - 2 * b)).setTo(255);
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px));

@@ -8,7 +8,9 @@
 //      undistorted, vision/undistort.h) or, without K, the fundamental matrix; epipolar
 //      outliers end their track; the model is returned as F_cur_prev (for the line gate);
 //   3. detect: new Shi-Tomasi corners (cv::goodFeaturesToTrack) away from the surviving tracks
-//      (min_distance_px), up to target_count live tracks, each with a new track id.
+//      (min_distance_px), up to target_count live tracks, each with a new track id; only in
+//      frames whose surviving tracks fall below detect_below_share x target_count (the corner
+//      response of the whole image is the tracker's largest cost).
 // Track ids are never reused. Output: the frame's observations as sensor::PointObservation
 // (point_id = track id), the form the simulator and the estimators use, with statistics.
 // No I/O, no timing (the caller times it).
@@ -28,7 +30,10 @@ namespace plucker {
 namespace vision {
 
 struct PointTrackerOptions {
-  int target_count = 400;                 // live tracks kept after re-detection
+  int target_count = 400;  // live tracks kept after re-detection
+  // Corners are detected only when fewer than this share of target_count tracks survived
+  // (in (0, 1]; 1: whenever one is missing).
+  double detect_below_share = 1.0;
   double min_distance_px = 12.0;          // between corners (new ones and live tracks)
   double quality_level = 0.01;            // goodFeaturesToTrack: relative corner strength
   int block_size = 3;                     // goodFeaturesToTrack: corner window
@@ -48,8 +53,9 @@ struct PointTrackerStats {
   int ransac_outliers = 0;
   bool ransac_run = false;
   int ransac_inliers = 0;
-  int tracked = 0;   // survivors (continued tracks)
-  int detected = 0;  // new tracks
+  int tracked = 0;             // survivors (continued tracks)
+  int detected = 0;            // new tracks
+  bool detection_run = false;  // corners were searched (see detect_below_share)
   int live() const { return tracked + detected; }
 };
 

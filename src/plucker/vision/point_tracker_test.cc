@@ -26,6 +26,35 @@ namespace fs = std::filesystem;
 using testing::Shifted;
 using testing::Texture;
 
+// detect_below_share: frames whose survivors reach the share get no new corners (the corner
+// response is not computed); below it the tracker refills to the target as before.
+TEST(PointTracker, DetectsOnlyBelowTheShareOfTheTarget) {
+  const cv::Mat base = Texture(320, 240, 7);
+  PointTrackerOptions options;
+  options.target_count = 150;
+  options.detect_below_share = 0.5;
+  PointTracker tracker(options);
+  const PointTrackerFrame first = tracker.Track(base);
+  EXPECT_TRUE(first.stats.detection_run);
+  EXPECT_EQ(first.stats.detected, 150);
+  // A small shift keeps most tracks: no detection although some are missing.
+  const PointTrackerFrame kept = tracker.Track(Shifted(base, 2.3, -1.1));
+  EXPECT_GT(kept.stats.tracked, 75);
+  EXPECT_LT(kept.stats.tracked, 150);  // some left the image: the default would refill
+  EXPECT_FALSE(kept.stats.detection_run);
+  EXPECT_EQ(kept.stats.detected, 0);
+  EXPECT_EQ(kept.stats.live(), kept.stats.tracked);
+  // Another texture: every track is lost, the share is not reached, the target is refilled.
+  const PointTrackerFrame lost = tracker.Track(Texture(320, 240, 99));
+  EXPECT_LT(lost.stats.tracked, 75);
+  EXPECT_TRUE(lost.stats.detection_run);
+  EXPECT_EQ(lost.stats.live(), 150);
+  options.detect_below_share = 0.0;
+  EXPECT_THROW(PointTracker{options}, std::invalid_argument);
+  options.detect_below_share = 1.5;
+  EXPECT_THROW(PointTracker{options}, std::invalid_argument);
+}
+
 TEST(PointTracker, FollowsAShiftingImageWithStableIds) {
   const cv::Mat base = Texture(320, 240, 7);
   PointTrackerOptions options;
