@@ -40,6 +40,7 @@ std::unique_ptr<Frame> SlidingWindowEstimator::Impl::MakeFrame(const FrameInput&
   f->point_outlier.assign(f->input.points.size(), 0);
   f->segment_outlier.assign(f->input.segments.size(), 0);
   FillVelocities(f.get());
+  if (TimeOffsetOn()) f->gyro = GyroAt(input.time);
   if (opt.inertial) f->T_b_c = T_b_c;
   f->SetCameraPose(T_w_c);
   return f;
