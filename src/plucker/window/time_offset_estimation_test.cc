@@ -148,9 +148,11 @@ TEST(TimeOffsetEstimation, DifferencedVelocitiesRecoverMostOfTheShift) {
 }
 
 // The model is unbiased given exact velocities: noise-free, points only, the velocities of the
-// noise-free observations: +7.58 ms for +8 ms (95 %; with lines, whose velocities are then
-// zero, 6.27 ms). What is missing with the window's own velocities is their noise (regression
-// dilution: 1 px over two frame intervals) and the lines (docs/math/time-offset.md).
+// noise-free observations: +8.48 ms for +8 ms (+7.58 ms before the observations left without a
+// velocity here, first and last of a track, took the predicted one instead of a differenced one;
+// with lines, whose velocities were then zero, 6.27 ms). What is missing with the window's own
+// velocities is their noise (regression dilution: 1 px over two frame intervals) and the lines
+// (docs/math/time-offset.md).
 TEST(TimeOffsetEstimation, ExactVelocitiesRecoverTheShift) {
   const sim::CameraSimulation clean = MemsRoom(kFrames, false);
   RunOptions o;
