@@ -519,11 +519,11 @@ expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"
 cp -r "$T/vcam" "$T/vgap"
 awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"
 sed -i "s/^counts \([0-9]*\) [0-9]*/counts \1 $(grep -vc '^#' "$T/vgap/imu.txt")/" "$T/vgap/rig.txt"
-expect vio-imu-gap 0 "skipped 2 frames, .*frames.txt frames 11-12 \(times 1\.1[0-9]*-1\.2[0-9]* s\): no IMU coverage" -- \
+expect vio-imu-gap 0 "skipped 3 frames, .*frames.txt frames 11-13 \(times 1\.100-1\.300 s\): no IMU coverage" -- \
   "$PLUCKER" vio --features "$T/vgap" --out "$T/vgap.tum" --json "$T/vgap.json" --no-lines \
   --point-stride 2
 expect vio-imu-gap-rows 0 "^37$" -- bash -c "grep -vc '^#' '$T/vgap.tum'"
-expect vio-imu-gap-json 0 "frames 11-12 \(times .*\): no IMU coverage" -- cat "$T/vgap.json"
+expect vio-imu-gap-json 0 "frames 11-13 \(times .*\): no IMU coverage" -- cat "$T/vgap.json"
 printf 'window.size: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
 expect vio-bad-config nonzero "vio_bad.yaml: unknown key 'windw'" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_bad.yaml"
