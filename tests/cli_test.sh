@@ -534,11 +534,11 @@ expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"
 cp -r "$T/vcam" "$T/vgap"
 awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"
 sed -i "s/^counts \([0-9]*\) [0-9]*/counts \1 $(grep -vc '^#' "$T/vgap/imu.txt")/" "$T/vgap/rig.txt"
-expect vio-imu-gap 0 "skipped .*frames.txt frame 11: no IMU coverage" -- \
+expect vio-imu-gap 0 "skipped 3 frames, .*frames.txt frames 11-13 \(times 1\.100-1\.300 s\): no IMU coverage" -- \
   "$PLUCKER" vio --features "$T/vgap" --out "$T/vgap.tum" --json "$T/vgap.json" --no-lines \
   --point-stride 2
 expect vio-imu-gap-rows 0 "^37$" -- bash -c "grep -vc '^#' '$T/vgap.tum'"
-expect vio-imu-gap-json 0 "frame 12: no IMU coverage" -- cat "$T/vgap.json"
+expect vio-imu-gap-json 0 "frames 11-13 \(times .*\): no IMU coverage" -- cat "$T/vgap.json"
 printf 'window.size: 8\nwindw: 3\n' > "$T/vio_bad.yaml"
 expect vio-bad-config nonzero "vio_bad.yaml: unknown key 'windw'" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_bad.yaml"
@@ -656,12 +656,17 @@ if [ -d "$EUROC/mav0" ]; then
   t10=$(row_ns veuroc_imu_gap 11)
   awk -F, -v t="$t10" 'NR == 1 || $1 < t - 100000000 || $1 > t + 100000000' \
     "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_imu_gap/mav0/imu0/data.csv"
-  # At rest the frames after the gap get no zero-motion update (the IMU prediction across the
-  # gap is not believed still) and no landmark is tracked: IMU-only over max_imu_only_share, exit 3.
-  expect vio-euroc-imu-gap nonzero "imu0/data.csv: a gap of 0\\.2[0-9]* s.*longer than" -- \
+  # At rest: the still test takes the IMU's predicted speed at the gap's start (the readings
+  # interpolated across it carry rotor vibration): no false IMU-only alarm on these 20 frames, exit
+  # 0. (On the 95-frame head the keyframe IMU factor across the gap still moves the accelerometer
+  # bias and a later stretch goes IMU-only: docs/results/vio.md "IMU gap".)
+  expect vio-euroc-imu-gap 0 "imu0/data.csv: a gap of 0\\.2[0-9]* s.*longer than" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
-  expect vio-euroc-imu-gap-skipped nonzero "skipped .*data.csv:11: no IMU coverage \(inside a gap" -- \
+  expect vio-euroc-imu-gap-skipped 0 "skipped [0-9] frames, .*data.csv:[0-9]+-[0-9]+ \(times [0-9.]+-[0-9.]+ s\): no IMU coverage \(inside a gap" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_imu_gap" --out "$T/vgap_e.tum" --no-lines --quiet
+  # One warning for the frames in the gap (their lines and times), not one per frame.
+  expect vio-euroc-imu-gap-one-warning 0 "^1$" -- bash -c "'$PLUCKER' vio --euroc '$T/veuroc_imu_gap' \
+    --out '$T/vgap_e.tum' --no-lines --quiet 2>&1 | grep -c 'warning: skipped'"
   expect vio-euroc-imu-gap-rows 0 "^1[5-7] 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vgap_e.tum') \
     \$(grep -ci nan '$T/vgap_e.tum')"
   euroc_copy veuroc_partial  # 60 frames; the IMU ends at frame 39 (row 41): the later skipped
@@ -671,7 +676,7 @@ if [ -d "$EUROC/mav0" ]; then
   done
   awk -F, -v b="$(row_ns veuroc_partial 41)" 'NR == 1 || $1 <= b + 1000' \
     "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_partial/mav0/imu0/data.csv"
-  expect vio-euroc-partial-after 0 "skipped .*data.csv:42: no IMU coverage \(after the last" -- \
+  expect vio-euroc-partial-after 0 "skipped 20 frames, .*data.csv:42-61 \(times .*\): no IMU coverage \(after the last" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart.tum" --no-lines --quiet
   expect vio-euroc-partial-rows 0 "^40 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vpart.tum') \
     \$(grep -ci nan '$T/vpart.tum')"
@@ -680,7 +685,7 @@ if [ -d "$EUROC/mav0" ]; then
   # IMU sample and rotor vibration at rest went over the accelerometer bound; docs/vio.md).
   awk -F, -v a="$(row_ns veuroc_partial 4)" 'NR == 1 || $1 >= a - 1000' \
     "$EUROC/mav0/imu0/data.csv" > "$T/veuroc_partial/mav0/imu0/data.csv"
-  expect vio-euroc-partial-before 0 "data.csv:3: no IMU coverage \(before the first" -- \
+  expect vio-euroc-partial-before 0 "skipped 2 frames, .*data.csv:2-3 \(times .*\): no IMU coverage \(before the first" -- \
     "$PLUCKER" vio --euroc "$T/veuroc_partial" --out "$T/vpart2.tum" --quiet
   expect vio-euroc-partial-before-rows 0 "^58 0$" -- bash -c "echo \$(grep -vc '^#' '$T/vpart2.tum') \
     \$(grep -ci nan '$T/vpart2.tum')"

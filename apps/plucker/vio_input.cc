@@ -1,6 +1,8 @@
 #include "vio_input.h"
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "plucker/io/euroc_dataset.h"
 #include "plucker/io/io_error.h"
@@ -9,6 +11,35 @@
 
 namespace plucker {
 namespace app {
+
+std::vector<std::string> SkipWarnings(const std::vector<io::FrameSkip>& skipped,
+                                      const std::string& suffix, bool frame_numbers) {
+  const std::string at = frame_numbers ? " frame " : ":";
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < skipped.size();) {
+    std::size_t j = i + 1;
+    while (j < skipped.size() && skipped[j].file == skipped[i].file &&
+           skipped[j].reason == skipped[i].reason && skipped[j].line == skipped[j - 1].line + 1) {
+      ++j;
+    }
+    if (j == i + 1) {
+      const io::FrameSkip& a = skipped[i];
+      out.push_back("skipped " + a.file + at + std::to_string(a.line) + ": " + a.reason + suffix);
+    } else {
+      const io::FrameSkip &a = skipped[i], &b = skipped[j - 1];
+      std::ostringstream w;
+      w << "skipped " << j - i << " frames, " << a.file << (frame_numbers ? " frames " : ":")
+        << a.line << "-" << b.line;
+      if (std::isfinite(a.t) && std::isfinite(b.t)) {
+        w << std::fixed << std::setprecision(3) << " (times " << a.t << "-" << b.t << " s)";
+      }
+      w << ": " << a.reason << suffix;
+      out.push_back(w.str());
+    }
+    i = j;
+  }
+  return out;
+}
 
 std::vector<window::FrameInput> FeatureFrames(const sensor::CameraImuSequence& seq, int stride) {
   std::vector<window::FrameInput> frames(seq.frame_times.size());
@@ -43,9 +74,9 @@ VioInput ReadVioFeatures(const std::string& dir, int point_stride) {
   std::vector<std::string> warnings;
   io::CheckImuCoverage(in.imu, {}, dir + "/frames.txt", dir + "/imu.txt", &covered, &skipped,
                        &warnings);
-  for (const io::FrameSkip& s : skipped)
-    in.warnings.push_back("skipped " + s.file + " frame " + std::to_string(s.line) + ": " +
-                          s.reason);
+  for (io::FrameSkip& s : skipped) s.t = frames[s.line].time;
+  for (std::string& w : SkipWarnings(skipped, "", true)) in.warnings.push_back(std::move(w));
+  in.skipped_input_frames = static_cast<int>(skipped.size());
   in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
   for (const io::EurocFrame& f : covered) {
     in.frames.push_back(std::move(frames[f.line]));
@@ -68,7 +99,8 @@ VioInput ReadVioEuroc(const std::string& dir) {
   in.imu = std::move(data.imu.imu);
   in.images = std::move(data.frames);
   in.gt_states = std::move(data.imu.ground_truth);
-  for (const io::FrameSkip& s : data.skipped) in.warnings.push_back("skipped " + s.ToString());
+  for (std::string& w : SkipWarnings(data.skipped)) in.warnings.push_back(std::move(w));
+  in.skipped_input_frames = static_cast<int>(data.skipped.size());
   in.warnings.insert(in.warnings.end(), data.warnings.begin(), data.warnings.end());
   return in;
 }

@@ -25,6 +25,7 @@ struct VioInput {
   std::vector<window::FrameInput> frames;  // features folder: increasing times (IMU clock)
   std::vector<io::EurocFrame> images;      // EuRoC: increasing times (IMU clock)
   std::vector<std::string> warnings;       // skipped frames, IMU gaps, dropped images
+  int skipped_input_frames = 0;            // frames skipped at reading (named in `warnings`)
   // Ground truth for the plot: per frame (features), or the EuRoC states (nearest in time).
   std::optional<std::vector<SE3d>> gt_T_w_b;
   std::vector<sensor::BodyState> gt_states;
@@ -36,6 +37,14 @@ struct VioInput {
 // The frames of a features folder's sequence (docs/sim-format.md): the point tracks whose id is
 // >= 0 and a multiple of `stride` (outliers, id -1, left out), every segment.
 std::vector<window::FrameInput> FeatureFrames(const sensor::CameraImuSequence& seq, int stride);
+
+// The warnings for frames skipped at reading: one per run of frames on consecutive lines of a
+// file skipped for the same reason ("skipped N frames, FILE:A-B (times T0-T1 s): reason"; a run
+// of one: "skipped FILE:LINE: reason"), so that a gap or a late IMU start gives one line, not one
+// per frame. `suffix` is appended to each; `frame_numbers`: LINE is a frame number ("FILE frame
+// N", "FILE frames A-B").
+std::vector<std::string> SkipWarnings(const std::vector<io::FrameSkip>& skipped,
+                                      const std::string& suffix = "", bool frame_numbers = false);
 
 // Features folder; point tracks kept when id % point_stride == 0. Throws io::IoError.
 VioInput ReadVioFeatures(const std::string& dir, int point_stride);

@@ -142,6 +142,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
       {"stationary_frames", stationary},
       {"skipped_frames", skipped},
       {"skipped_images", skipped_images},
+      {"skipped_input_frames", in.skipped_input_frames},
       {"marginalized_keyframes", marginalized_},
       {"failed_marginalizations", failed_marginalizations_},
       {"mean_imu_chi2_keyframes", keyframes > 2 ? chi2_total_ / (keyframes - 2) : 0.0},

@@ -139,10 +139,12 @@ void ReplaceVioCalibration(const CameraCalibration& calib, VioInput* in) {
   std::vector<std::string> warnings;
   io::CheckImuCoverage(in->imu, {}, in->source + ": cam0/data.csv", in->source + ": imu0/data.csv",
                        &in->images, &skipped, &warnings);
-  for (const std::string& w : io::ToStrings(skipped)) {
-    in->warnings.push_back("skipped " + w + " (the frame time moved by timeshift_cam_imu " +
-                           std::to_string(calib.timeshift_cam_imu) + " s of " + calib.source + ")");
+  for (std::string& w : SkipWarnings(skipped, " (the frame time moved by timeshift_cam_imu " +
+                                                  std::to_string(calib.timeshift_cam_imu) +
+                                                  " s of " + calib.source + ")")) {
+    in->warnings.push_back(std::move(w));
   }
+  in->skipped_input_frames += static_cast<int>(skipped.size());
 }
 
 std::unique_ptr<VioStream> OpenVioInput(const std::string& features, const std::string& euroc,

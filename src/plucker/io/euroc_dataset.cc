@@ -143,7 +143,7 @@ void CheckImuCoverage(const std::vector<sensor::ImuSample>& imu, const EurocData
     if (problem.empty()) {
       covered.push_back(f);
     } else {
-      skipped->push_back({camera_name, f.line, problem});
+      skipped->push_back({camera_name, f.line, problem, f.t});
     }
   }
   *frames = std::move(covered);

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,8 @@ struct FrameSkip {
   std::string file;
   int line = 0;
   std::string reason;
-  std::string ToString() const;  // "FILE:LINE: reason"
+  double t = std::numeric_limits<double>::quiet_NaN();  // the frame's time, s (NaN: unread)
+  std::string ToString() const;                         // "FILE:LINE: reason"
 };
 
 struct EurocDatasetOptions {

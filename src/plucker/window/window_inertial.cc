@@ -4,6 +4,7 @@
 #include <ceres/autodiff_cost_function.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -24,6 +25,15 @@ using internal::ZeroMotionResidual;
 ImuPreintegration SlidingWindowEstimator::Impl::Preintegrate(double t0, double t1,
                                                              const sensor::ImuBias& bias) const {
   return PreintegrateSamples(imu, t0, t1, bias, opt.inertial->imu);
+}
+
+std::optional<double> SlidingWindowEstimator::Impl::ImuGapStart(double t0, double t1) const {
+  for (std::size_t i = 1; i < imu.size() && imu[i - 1].t < t1; ++i) {
+    if (imu[i].t > t0 && imu[i].t - imu[i - 1].t > opt.inertial->imu_gap_s) {
+      return std::max(imu[i - 1].t, t0);
+    }
+  }
+  return std::nullopt;
 }
 
 // The state at time t predicted from the newest keyframe, with the preintegration used.

@@ -55,6 +55,9 @@ struct Frame {
   // With the time offset estimated: the observations whose image velocity the window filled in
   // (not given by the caller), per input.points / input.segments.
   std::vector<char> point_velocity_filled, segment_velocity_filled;
+  // ... and the gyroscope reading at input.time (interpolated; none when the IMU does not cover
+  // it), from which the keyframe's image velocities are predicted (PredictImageVelocities).
+  std::optional<Eigen::Vector3d> gyro;
   // Inertial mode: the extrinsic, the velocity and bias blocks, the IMU from the previous
   // keyframe, and the priors of the first keyframe.
   std::optional<SE3d> T_b_c;
@@ -188,6 +191,12 @@ struct SlidingWindowEstimator::Impl {
   // Whether the segment (s, e) matches the previous one with its endpoints swapped.
   static bool Swapped(const Eigen::Vector2d& s, const Eigen::Vector2d& e, const LastObservation& o);
   bool TimeOffsetOn() const { return opt.inertial && opt.inertial->estimate_time_offset; }
+  // The gyroscope reading at time t, interpolated in the IMU buffer (none outside it).
+  std::optional<Eigen::Vector3d> GyroAt(double t) const;
+  // Before a window solve (time_offset_velocity_from_state): the image velocities the window
+  // filled in for the keyframes' observations of existing landmarks, replaced by those predicted
+  // from the keyframe's state (velocity, gyroscope minus bias, extrinsic) and the landmark.
+  void PredictImageVelocities();
 
   // --- window_state.cc: bookkeeping ----------------------------------------------------------
   // With the time offset estimated, also fills in the image velocities (FillVelocities; the
@@ -243,6 +252,9 @@ struct SlidingWindowEstimator::Impl {
   void AppendInertialResiduals(std::size_t k, std::vector<ResidualSpec>* out) const;
   // Integrates the IMU factors again whose start bias moved far from the linearisation point.
   void RepropagateImu();
+  // The time of the first IMU sample in [t0, t1) followed by a step longer than
+  // InertialOptions::imu_gap_s (none without a gap).
+  std::optional<double> ImuGapStart(double t0, double t1) const;
   // Drops the IMU samples before the newest keyframe (one sample before it is kept).
   void PruneImu();
   // The caller's stationary flag, believed only while the body moves slower than

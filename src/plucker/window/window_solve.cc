@@ -13,6 +13,7 @@ using internal::ObservationBlock;
 void SlidingWindowEstimator::Impl::SolveWindow(WindowFrameResult* result) {
   RepropagateImu();
   UpdateExtrinsicFree();
+  PredictImageVelocities();
   ceres::Problem problem(ProblemOptions());
   std::vector<ObservationBlock> observations;
   result->residuals = BuildProblem(&problem, true, &observations);

@@ -41,6 +41,7 @@ std::unique_ptr<Frame> SlidingWindowEstimator::Impl::MakeFrame(const FrameInput&
   f->segment_outlier.assign(f->input.segments.size(), 0);
   AttachRight(f.get(), input);
   FillVelocities(f.get());
+  if (TimeOffsetOn()) f->gyro = GyroAt(input.time);
   if (opt.inertial) f->T_b_c = T_b_c;
   f->SetCameraPose(T_w_c);
   return f;

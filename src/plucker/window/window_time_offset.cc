@@ -2,13 +2,70 @@
 // docs/math/time-offset.md): its block and prior, and the image velocities of the observations.
 #include <ceres/autodiff_cost_function.h>
 
+#include <cmath>
 #include <stdexcept>
 
+#include "plucker/factors/anchored_line_factor.h"
+#include "plucker/geometry/orthonormal_line.h"
 #include "plucker/window/window_factors_internal.h"
 #include "plucker/window/window_internal.h"
 
 namespace plucker {
 namespace window {
+namespace {
+
+// The motion of a camera on the body: state (T_w_b, v_w), angular rate omega_b (body frame).
+struct CameraMotion {
+  SE3d T_w_c;
+  Eigen::Vector3d omega_c;  // angular rate, camera frame
+  Eigen::Vector3d c_dot_w;  // velocity of the camera centre, world frame
+};
+
+CameraMotion MotionOf(const SE3d& T_w_b, const Eigen::Vector3d& v_w, const Eigen::Vector3d& omega_b,
+                      const SE3d& T_b_c) {
+  const Eigen::Matrix3d R_w_b = T_w_b.RotationMatrix();
+  return {T_w_b * T_b_c, T_b_c.RotationMatrix().transpose() * omega_b,
+          v_w + R_w_b * omega_b.cross(T_b_c.translation())};
+}
+
+// d/dt pi(K, T_c_w(t) x_w) [px/s]: p_c = R_w_c^T (x_w - c_w), dp_c/dt = -omega_c x p_c -
+// R_w_c^T dc_w/dt. None behind (or nearly at) the camera.
+std::optional<Eigen::Vector2d> ImageVelocity(const PinholeIntrinsics& K, const CameraMotion& m,
+                                             const Eigen::Vector3d& x_w) {
+  const Eigen::Vector3d p_c = m.T_w_c.Inverse() * x_w;
+  if (!(p_c.z() > 1e-3)) return std::nullopt;
+  const Eigen::Vector3d dp_c =
+      -m.omega_c.cross(p_c) - m.T_w_c.RotationMatrix().transpose() * m.c_dot_w;
+  const double z2 = p_c.z() * p_c.z();
+  const Eigen::Vector2d v(K.fx * (dp_c.x() * p_c.z() - p_c.x() * dp_c.z()) / z2,
+                          K.fy * (dp_c.y() * p_c.z() - p_c.y() * dp_c.z()) / z2);
+  if (!v.allFinite()) return std::nullopt;
+  return v;
+}
+
+// The point of the world line L_w nearest to the ray of pixel uv from the camera T_w_c (none for
+// a ray parallel to the line or a degenerate line).
+std::optional<Eigen::Vector3d> LinePointOfRay(const PinholeIntrinsics& K, const SE3d& T_w_c,
+                                              const Line6d& L_w, const Eigen::Vector2d& uv) {
+  const Eigen::Vector3d n = L_w.head<3>(), d = L_w.tail<3>();
+  const double dn = d.norm();
+  if (!(dn > 0.0)) return std::nullopt;
+  const Eigen::Vector3d u = d / dn;
+  const Eigen::Vector3d a0 = d.cross(n) / (dn * dn);  // nearest to the origin
+  const Eigen::Vector3d c = T_w_c.translation();
+  const Eigen::Vector3d w = (T_w_c.RotationMatrix() *
+                             Eigen::Vector3d((uv.x() - K.cx) / K.fx, (uv.y() - K.cy) / K.fy, 1.0))
+                                .normalized();
+  const Eigen::Vector3d r = a0 - c;
+  const double b = u.dot(w), denom = 1.0 - b * b;
+  if (!(denom > 1e-6)) return std::nullopt;
+  const double s = (b * w.dot(r) - u.dot(r)) / denom;
+  const Eigen::Vector3d x = a0 + s * u;
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+}  // namespace
 
 void SlidingWindowEstimator::Impl::ResetTimeOffset() {
   time_offset[0] = opt.inertial ? opt.inertial->time_offset_s : 0.0;
@@ -103,6 +160,59 @@ void SlidingWindowEstimator::Impl::RefineNewestKeyframeVelocities(const FrameInp
     const Eigen::Vector2d& next_b = swapped ? n->second->s_px : n->second->e_px;
     s.s_velocity = central(next_a, last, last.prev_a);
     s.e_velocity = central(next_b, last, last.prev_b);
+  }
+}
+
+std::optional<Eigen::Vector3d> SlidingWindowEstimator::Impl::GyroAt(double t) const {
+  for (std::size_t i = 1; i < imu.size(); ++i) {
+    if (imu[i].t < t) continue;
+    const sensor::ImuSample &a = imu[i - 1], &b = imu[i];
+    if (!(a.t <= t) || !(b.t > a.t)) return std::nullopt;
+    const double w = (t - a.t) / (b.t - a.t);
+    return Eigen::Vector3d((1.0 - w) * a.gyro + w * b.gyro);
+  }
+  return std::nullopt;
+}
+
+// Each keyframe with a gyroscope reading: its filled-in velocities of points and segments whose
+// landmark is in the window, predicted from the current state (held during the solve, as the
+// differenced ones; the Jacobians of the velocity on the state, of order td, are left out).
+// Observations whose prediction fails keep their differenced velocity.
+void SlidingWindowEstimator::Impl::PredictImageVelocities() {
+  if (!TimeOffsetOn() || !opt.inertial->time_offset_velocity_from_state) return;
+  for (auto& fp : keyframes) {
+    Frame& f = *fp;
+    if (!f.gyro || f.point_velocity_filled.size() != f.input.points.size() ||
+        f.segment_velocity_filled.size() != f.input.segments.size()) {
+      continue;
+    }
+    const Eigen::Vector3d omega_b = *f.gyro - Eigen::Vector3d(f.bias[0], f.bias[1], f.bias[2]);
+    const CameraMotion m =
+        MotionOf(SE3d::FromParameters(f.pose), Eigen::Vector3d(f.v[0], f.v[1], f.v[2]), omega_b,
+                 f.T_b_c.value_or(T_b_c));
+    for (std::size_t i = 0; i < f.input.points.size(); ++i) {
+      sensor::PointObservation& p = f.input.points[i];
+      const auto it = points.find(p.point_id);
+      if (!f.point_velocity_filled[i] || it == points.end()) continue;
+      const auto v = ImageVelocity(
+          K, m, Eigen::Vector3d(it->second->p[0], it->second->p[1], it->second->p[2]));
+      if (v) p.uv_velocity = *v;
+    }
+    for (std::size_t i = 0; i < f.input.segments.size(); ++i) {
+      sensor::SegmentObservation& s = f.input.segments[i];
+      const auto it = lines.find(s.line_id);
+      if (!f.segment_velocity_filled[i] || it == lines.end()) continue;
+      const Line6d L_w = WorldFromAnchored(
+          PluckerFromOrthonormal(OrthonormalLine::FromParameters(it->second->block)),
+          it->second->anchor);
+      const auto xs = LinePointOfRay(K, m.T_w_c, L_w, s.s_px);
+      const auto xe = LinePointOfRay(K, m.T_w_c, L_w, s.e_px);
+      if (!xs || !xe) continue;
+      const auto vs = ImageVelocity(K, m, *xs), ve = ImageVelocity(K, m, *xe);
+      if (!vs || !ve) continue;
+      s.s_velocity = *vs;
+      s.e_velocity = *ve;
+    }
   }
 }
 

@@ -19,8 +19,16 @@ Prediction SlidingWindowEstimator::Impl::PredictFrame(const FrameInput& input) c
   Prediction p;
   if (opt.inertial) {
     p.state = Predict(input.time, &p.imu);
-    p.stationary = BelievedStationary(input.stationary, keyframes.back()->State().v_w) &&
-                   p.state.v_w.norm() < opt.inertial->stationary_max_predicted_speed;
+    const sensor::BodyState kf = keyframes.back()->State();
+    // Across an IMU gap, the predicted speed at its start (InertialOptions::imu_gap_s).
+    double speed = p.state.v_w.norm();
+    if (input.stationary) {
+      const std::optional<double> gap = ImuGapStart(kf.t, input.time);
+      std::unique_ptr<ImuPreintegration> to_gap;
+      if (gap) speed = *gap > kf.t ? Predict(*gap, &to_gap).v_w.norm() : kf.v_w.norm();
+    }
+    p.stationary = BelievedStationary(input.stationary, kf.v_w) &&
+                   speed < opt.inertial->stationary_max_predicted_speed;
     if (p.stationary) {  // the body stands: the newest keyframe's pose, zero velocity
       p.state.T_w_b = keyframes.back()->State().T_w_b;
       p.state.v_w.setZero();
