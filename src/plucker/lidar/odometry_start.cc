@@ -22,6 +22,7 @@ SE3d LidarOdometry::RegisterWideStart(double periods, const StageObserver& obser
   const int candidates = o.start_max_speed > 0.0
                              ? std::clamp(static_cast<int>(std::ceil(reach / step)) + 1, 1, 64)
                              : 1;
+  if (candidates == 1) return RegisterStart(observer, features, result);
   const SE3d T_w_s_pred = result->T_w_s;
   const FrameResult initial = *result;
   int start_rounds = 0;
@@ -37,7 +38,6 @@ SE3d LidarOdometry::RegisterWideStart(double periods, const StageObserver& obser
     r.T_w_s = T_w_s_pred * SE3d(Eigen::Matrix3d::Identity(), Eigen::Vector3d(k * step, 0, 0));
     const SE3d T_w_s_start = RegisterStart(observer, features, &r);
     start_rounds += r.start_rounds;
-    if (candidates == 1) return T_w_s_start;
     FrameResult scored = r;
     if (!RunRounds(o, edge_map_, plane_map_, T_w_s_start, true, observer, features, &scored))
       continue;
