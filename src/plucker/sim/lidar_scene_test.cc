@@ -166,7 +166,7 @@ TEST(LidarScene, HighwayIsAnOpenRoadWithRails) {
   int rails = 0, samples = 0;
   for (double s = 0.0; s < drive.loop_length(); s += 50.0, ++samples) {
     const SE3d T_w_s = drive.T_w_s(s / motion.speed);
-    const Eigen::Matrix3d R = T_w_s.rotation();
+    const Eigen::Matrix3d R = T_w_s.RotationMatrix();
     const Eigen::Vector3d p = T_w_s.translation();
     // The right guard rail's inner face, 4.45 m to the right at rail height (chords of the
     // curves: within 2 cm), and nothing overhead.
@@ -179,7 +179,8 @@ TEST(LidarScene, HighwayIsAnOpenRoadWithRails) {
   // along-track direction is fixed by the ground and rails alone, besides sparse objects).
   for (double s = 0.0; s <= 500.0; s += 25.0) {
     const SE3d T_w_s = drive.T_w_s(s / motion.speed);
-    EXPECT_FALSE(highway.Cast(T_w_s.translation(), T_w_s.rotation().col(0), 0, 120)) << "s = " << s;
+    EXPECT_FALSE(highway.Cast(T_w_s.translation(), T_w_s.RotationMatrix().col(0), 0, 120))
+        << "s = " << s;
   }
   // A scan there: mostly ground, a few percent rails and objects, no hit beyond the range.
   LidarSimOptions sensor;
