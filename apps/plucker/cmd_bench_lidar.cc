@@ -39,7 +39,15 @@ struct BenchLidarArgs {
 
 constexpr int kStages = kLidarStages;
 const std::array<const char*, kStages>& kStageNames = kBenchStageNames;
-using ReadFn = std::function<bool(int, LidarScan*, std::string*)>;
+// Reads frame i into *scan; *stamp receives its time (s) also when the read fails, so that a
+// skipped frame is predicted at its time, as `plucker lidar` does.
+using ReadFn = std::function<bool(int, LidarScan*, std::string*, double*)>;
+
+// The time of frame i of `seq`: times.txt / the file names when known, else 10 Hz.
+double StampOf(const io::LidarSequence& seq, int i) {
+  const auto k = static_cast<std::size_t>(i);
+  return k < seq.times().size() ? seq.times()[k] : 0.1 * i;
+}
 
 // Per frame: the stage times of one pass over the sequence (CPU time of the thread with one
 // thread, wall-clock with several: see StageClock). `prepare(i)` (optional) runs before frame i,
@@ -58,8 +66,9 @@ std::vector<StageTimes> RunOnce(const ReadFn& read_frame, lidar::LidarOdometryOp
     if (prepare) prepare(i);
     const double t0 = now();
     std::string error;
-    if (!read_frame(i, &scan, &error)) {
-      odometry.SkipFrame(error);
+    double stamp = 0.0;
+    if (!read_frame(i, &scan, &error, &stamp)) {
+      odometry.SkipFrame(error, stamp);
       continue;
     }
     const double read = now() - t0;
@@ -80,7 +89,10 @@ int RunLongBench(const BenchLidarArgs& args) {
     SimulatedDrive drive("urban", args.sensor, 1);
     description = drive.description();
     times = RunOnce(
-        [&](int i, LidarScan* scan, std::string* error) { return drive.Read(i, scan, error); },
+        [&](int i, LidarScan* scan, std::string* error, double* stamp) {
+          *stamp = 0.1 * i;  // the simulated drive's 10 Hz
+          return drive.Read(i, scan, error);
+        },
         lidar::LidarOdometryOptions(), args.sim_frames, args.threads.front(),
         [&](int i) { drive.Simulate(i); });
   } else {
@@ -90,7 +102,10 @@ int RunLongBench(const BenchLidarArgs& args) {
     AdaptToSequence(seq, &options);
     const int n = static_cast<int>(seq.size());
     times = RunOnce(
-        [&](int i, LidarScan* scan, std::string* error) { return seq.Read(i, scan, error); },
+        [&](int i, LidarScan* scan, std::string* error, double* stamp) {
+          *stamp = StampOf(seq, i);
+          return seq.Read(i, scan, error);
+        },
         options, args.frames > 0 ? std::min(args.frames, n) : n, args.threads.front());
   }
   const std::vector<BlockMedians> blocks = MediansPerBlock(times, args.block);
@@ -120,7 +135,8 @@ int RunBenchLidar(const BenchLidarArgs& args) {
                                      : static_cast<int>(seq.size());
   lidar::LidarOdometryOptions options;
   AdaptToSequence(seq, &options);
-  const ReadFn read = [&](int i, LidarScan* scan, std::string* error) {
+  const ReadFn read = [&](int i, LidarScan* scan, std::string* error, double* stamp) {
+    *stamp = StampOf(seq, i);
     return seq.Read(i, scan, error);
   };
   // best[t][frame][stage]: the fastest repeat of each frame.

@@ -39,6 +39,7 @@ struct SimLidarArgs {
   double noise = 0.02;
   bool distortion = false;
   double speed_variation = 0.0;  // m/s, sinusoidal over 4 s (accelerations): VehicleTrajectory
+  double speed = 0.0;            // m/s; 0: the scene's (urban, corridor 10, highway 30)
 };
 
 // Refuses a non-empty folder that is not a previous simulator output; clears the frames of a
@@ -78,9 +79,15 @@ int Run(const SimLidarArgs& args) {
   if (!(args.noise >= 0)) throw std::invalid_argument("--noise must be >= 0");
   const sensor::LidarModel sensor = sensor::LidarModelFromName(args.sensor);
   const sim::LidarScene scene = sim::MakeScene(args.scene, args.seed);
-  if (!(args.speed_variation >= 0.0 && args.speed_variation < 10.0))
-    throw std::invalid_argument("--speed-variation must be in [0, 10) m/s (the speed is 10 m/s)");
+  if (!(args.speed >= 0.0 && args.speed <= 60.0))
+    throw std::invalid_argument("--speed must be in (0, 60] m/s (0: the scene's default)");
   sim::VehicleTrajectoryOptions motion;
+  motion.speed = args.speed > 0.0 ? args.speed : scene.route_speed;
+  motion.corner_radius = scene.route_corner_radius;
+  if (!(args.speed_variation >= 0.0 && args.speed_variation < motion.speed)) {
+    throw std::invalid_argument("--speed-variation must be in [0, speed) m/s (the speed is " +
+                                std::to_string(motion.speed) + " m/s)");
+  }
   motion.speed_variation = args.speed_variation;
   const sim::VehicleTrajectory trajectory(scene.route, motion);
 
@@ -100,7 +107,7 @@ int Run(const SimLidarArgs& args) {
          << "scene " << args.scene << "\nsensor " << sensor.name << "\nframes " << args.frames
          << "\nseed " << args.seed << "\nnoise " << args.noise << "\ndistortion "
          << (args.distortion ? 1 : 0) << "\nrate_hz " << sensor.rate_hz << "\nloop_length_m "
-         << trajectory.loop_length() << "\n";
+         << trajectory.loop_length() << "\nspeed_m_s " << motion.speed << "\n";
   if (args.speed_variation > 0.0)
     marker << "speed_variation " << args.speed_variation << " (m/s, period " << motion.speed_period
            << " s)\n";
@@ -145,8 +152,10 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
       "lidar", "Simulate a spinning LiDAR on a vehicle; writes a KITTI-layout sequence");
   cmd->add_option("--out", args->out, "Output folder (new, empty or a previous sim output)")
       ->required();
-  cmd->add_option("--scene", args->scene, "Scene: urban (street grid, >1 km loop) or corridor")
-      ->check(CLI::IsMember({"urban", "corridor"}))
+  cmd->add_option("--scene", args->scene,
+                  "Scene: urban (street grid, >1 km loop), corridor or highway (open road, "
+                  "guard rails, sparse poles; 9 km loop, 30 m/s)")
+      ->check(CLI::IsMember({"urban", "corridor", "highway"}))
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of scans (10 Hz)")->capture_default_str();
   cmd->add_option("--sensor", args->sensor,
@@ -160,8 +169,11 @@ void RegisterSimLidar(CLI::App& sim, int* exit_code) {
   cmd->add_flag("--distortion", args->distortion,
                 "Move the sensor during each sweep and also write pcd/NNNNNN.pcd with per-point "
                 "time (for deskewing)");
+  cmd->add_option("--speed", args->speed,
+                  "Vehicle speed (m/s; default 0: the scene's, 10 for urban and corridor, 30 for "
+                  "highway)");
   cmd->add_option("--speed-variation", args->speed_variation,
-                  "Vary the 10 m/s speed by this much (m/s), sinusoidally over 4 s: "
+                  "Vary the speed by this much (m/s), sinusoidally over 4 s: "
                   "accelerations up to 1.57 times this in m/s^2 (default 0: constant speed)");
   cmd->callback(
       [args, exit_code]() { RunGuarded("sim lidar", exit_code, [&] { return Run(*args); }); });

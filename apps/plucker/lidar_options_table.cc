@@ -113,6 +113,10 @@ std::vector<LidarOption> MakeRows() {
           "without a motion prior (second scan, after skips): coarse-to-fine stages "
           "from this correspondence distance, halved down to the normal one (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.start_distance));
+  t.Value("registration.start_max_speed", "m/s",
+          "a gap right after the first scan: the start path from forward offsets up to this "
+          "speed times the time elapsed, the best match kept (0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.start_max_speed));
   t.Bool("registration.restart_from_stamps",
          "a scan more than 1.5 intervals after the last: the velocity step once per interval "
          "elapsed, then the start path",

@@ -236,6 +236,8 @@ class LidarOdometry::Impl {
   std::vector<Eigen::Vector3d> raw_edges, raw_planes;  // while deskewing: the points as measured
   int frames_since_cleanup = 0;
   int registered_streak = 0;  // consecutive registered frames up to the last one (the first: 1)
+  int registered_total = 0;   // registered frames so far (the first scan counts)
+  std::size_t seed_slot = 0;  // index in poses_ of the first registered scan
   double stamp = 0.0;         // of the scan being processed
 
   // Deskewing: the first scan seeds the map raw, kept here (at T_w_s_seed) until the next one.
@@ -389,7 +391,11 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
                             static_cast<std::size_t>(o.min_correspondences))
     return;
   const bool start = impl_->registered_streak < 2 && o.start_distance > 0.0;
-  const SE3d T_w_s_anchor = start ? RegisterStart(observer, features, result) : T_w_s_pred;
+  // No velocity yet (only the first scan registered) and a gap since it: the wide start.
+  const double periods = start && impl_->registered_total == 1 ? PeriodsSinceSeed() : 0.0;
+  const SE3d T_w_s_anchor = !start          ? T_w_s_pred
+                            : periods > 1.5 ? RegisterWideStart(periods, observer, features, result)
+                                            : RegisterStart(observer, features, result);
   const bool ok =
       RunRounds(o, edge_map_, plane_map_, T_w_s_anchor, start, observer, features, result);
   if (!ok) result->T_w_s = T_w_s_anchor;
@@ -409,6 +415,15 @@ void LidarOdometry::RegisterToMap(const SE3d& T_w_s_pred, bool deskew,
   const SE3d T_w_s_start = RegisterStart(observer, features, result);
   if (!RunRounds(o, edge_map_, plane_map_, T_w_s_start, true, observer, features, result))
     result->T_w_s = T_w_s_start;
+}
+
+// Scan periods from the first registered scan to the one being processed: from the scan times
+// when both are known, else the frame slots between them (skipped frames).
+double LidarOdometry::PeriodsSinceSeed() const {
+  const double elapsed = impl_->stamp - stamps_[impl_->seed_slot];
+  const double period = options_.features.scan_period;
+  if (elapsed > 0.0 && period > 0.0) return elapsed / period;
+  return static_cast<double>(poses_.size() - impl_->seed_slot);
 }
 
 LidarOdometryOptions StartStageOptions(const LidarOdometryOptions& o, double d) {
@@ -545,6 +560,7 @@ void LidarOdometry::UpdateMap(bool deskew, ScanFeatures* features, FrameResult* 
                  &plane_map_);
   const bool registered = result->ok && (result->association_rounds > 0 || poses_.empty());
   impl_->registered_streak = registered ? impl_->registered_streak + 1 : 0;
+  if (registered && impl_->registered_total++ == 0) impl_->seed_slot = poses_.size();
   poses_.push_back(result->T_w_s);
   stamps_.push_back(impl_->stamp);
   result->map_points = edge_map_.NumPoints() + plane_map_.NumPoints();

@@ -84,6 +84,12 @@ struct LidarOdometryOptions {
   // edge sigmas, the plane test and the convergence values scale with d (odometry.cc,
   // StartStageOptions). 0: off.
   double start_distance = 4.0;  // m
+  // A gap right after the first scan (skipped or absent scans before any motion is known): the
+  // start path runs from forward offsets along the sensor's x axis (a vehicle-mounted sensor)
+  // every start_distance / 2 up to start_max_speed times the time since the first scan (the
+  // scan times, else scan_period per frame slot), and keeps the one whose normal registration
+  // matches the most points (odometry_start.cc). 0: off (the start path from the first pose).
+  double start_max_speed = 35.0;  // m/s
   // Restart after a gap (scans missing without a skipped frame, seen from the scan timestamps):
   // when a scan comes more than 1.5 scan intervals after the last one, the constant-velocity
   // step is applied once per interval elapsed and the scan takes the start path (with
@@ -147,6 +153,9 @@ class LidarOdometry {
   void RegisterToMap(const SE3d& T_w_s_pred, bool deskew, const StageObserver& observer,
                      ScanFeatures* features, FrameResult* result);
   SE3d RegisterStart(const StageObserver& observer, ScanFeatures* features, FrameResult* result);
+  SE3d RegisterWideStart(double periods, const StageObserver& observer, ScanFeatures* features,
+                         FrameResult* result);
+  double PeriodsSinceSeed() const;
   bool RunRounds(const LidarOdometryOptions& o, const VoxelMap& edge_map, const VoxelMap& plane_map,
                  const SE3d& T_w_s_anchor, bool deskew_first_round, const StageObserver& observer,
                  ScanFeatures* features, FrameResult* result);

@@ -98,11 +98,13 @@ LidarModel VLP16() {
 
 namespace {
 
-LidarModel OusterOS1(int beams) {
+// Uniform beams over +-half_fov_deg (the OS1 datasheet: 16.6 deg for 64 beams, 22.5 for 128).
+LidarModel OusterOS1(int beams, double half_fov_deg) {
   LidarModel m;
   m.name = "os1-" + std::to_string(beams);
   std::vector<double> deg;
-  for (int i = 0; i < beams; ++i) deg.push_back(-22.5 + 45.0 * i / (beams - 1));
+  for (int i = 0; i < beams; ++i)
+    deg.push_back(-half_fov_deg + 2.0 * half_fov_deg * i / (beams - 1));
   m.elevation_rad = SortedRadians(deg);
   m.min_range = 0.5;
   m.max_range = 120.0;
@@ -113,8 +115,8 @@ LidarModel OusterOS1(int beams) {
 
 }  // namespace
 
-LidarModel OS1_64() { return OusterOS1(64); }
-LidarModel OS1_128() { return OusterOS1(128); }
+LidarModel OS1_64() { return OusterOS1(64, 16.6); }
+LidarModel OS1_128() { return OusterOS1(128, 22.5); }
 
 LidarModel GenericLidar() {
   LidarModel m;

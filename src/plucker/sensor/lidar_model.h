@@ -52,10 +52,10 @@ LidarModel HDL64();
 LidarModel VLP32();
 // Velodyne VLP-16 (Puck): -15 .. +15 deg every 2 deg. 0.5 .. 100 m, 1800 azimuth steps.
 LidarModel VLP16();
-// Ouster OS1-64 / OS1-128: 64 / 128 beams uniformly spaced over the 45 deg vertical field of view
-// (+22.5 .. -22.5 deg) of the OS1 Rev 6 datasheet's uniform beam configuration; 1024 columns per
-// revolution at 10 Hz (the 1024x10 mode), 0.5 .. 120 m. A real unit's beam_altitude_angles (its
-// metadata) differ by up to a few tenths of a degree: clouds from the driver carry a ring field,
+// Ouster OS1-64 / OS1-128, uniform beam spacing over the OS1 datasheet's vertical field of view:
+// 64 beams over +16.6 .. -16.6 deg (33.2 deg), 128 over +22.5 .. -22.5 deg (45 deg); 1024
+// columns per revolution at 10 Hz, 0.5 .. 120 m. Later revisions (Rev 6/7) have other fields of
+// view and a real unit's beam_altitude_angles differ: clouds from the driver carry a ring field,
 // which is used instead of this table.
 LidarModel OS1_64();
 LidarModel OS1_128();

@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "plucker/geometry/fast_atan2.h"
 #include "plucker/io/kitti_lidar.h"
@@ -57,13 +58,17 @@ TEST(LidarModel, Tables) {
 }
 
 TEST(LidarModel, OusterAndGeneric) {
-  for (const auto& [m, beams] : {std::pair{OS1_64(), 64}, std::pair{OS1_128(), 128}}) {
+  // The OS1 datasheet's vertical fields of view: 33.2 deg (64 beams), 45 deg (128 beams).
+  for (const auto& [m, beams, half_fov] :
+       {std::tuple{OS1_64(), 64, 16.6}, std::tuple{OS1_128(), 128, 22.5}}) {
     EXPECT_EQ(m.num_rings(), beams);
     EXPECT_TRUE(m.spinning);
-    EXPECT_NEAR(m.elevation_rad.front(), -22.5 * kDeg, 1e-12);
-    EXPECT_NEAR(m.elevation_rad.back(), 22.5 * kDeg, 1e-12);
-    for (int r = 1; r < m.num_rings(); ++r)
-      EXPECT_NEAR(m.elevation_rad[r] - m.elevation_rad[r - 1], 45.0 / (beams - 1) * kDeg, 1e-12);
+    EXPECT_NEAR(m.elevation_rad.front(), -half_fov * kDeg, 1e-12);
+    EXPECT_NEAR(m.elevation_rad.back(), half_fov * kDeg, 1e-12);
+    for (int r = 1; r < m.num_rings(); ++r) {
+      EXPECT_NEAR(m.elevation_rad[r] - m.elevation_rad[r - 1], 2 * half_fov / (beams - 1) * kDeg,
+                  1e-12);
+    }
     EXPECT_EQ(m.azimuth_steps, 1024);
     EXPECT_EQ(LidarModelFromName(m.name).name, m.name);
   }

@@ -507,7 +507,12 @@ LidarScene MakeScene(const std::string& name, std::uint64_t seed) {
     o.seed = seed;
     return MakeCorridorScene(o);
   }
-  throw std::invalid_argument("unknown scene '" + name + "' (expected urban or corridor)");
+  if (name == "highway") {
+    HighwaySceneOptions o;
+    o.seed = seed;
+    return MakeHighwayScene(o);
+  }
+  throw std::invalid_argument("unknown scene '" + name + "' (expected urban, corridor or highway)");
 }
 
 }  // namespace sim

@@ -75,6 +75,9 @@ class LidarScene {
   // factories; consecutive points are distinct.
   std::vector<Eigen::Vector2d> route;
   std::string name;
+  // How the scene is driven by default (VehicleTrajectoryOptions speed and corner_radius).
+  double route_speed = 10.0;          // m/s
+  double route_corner_radius = 12.0;  // m
 
  private:
   enum class Kind : std::uint8_t { kRectangle, kBox, kCylinder };
@@ -124,7 +127,25 @@ struct CorridorSceneOptions {
 // degenerate along its axis. The route runs along the axis and back.
 LidarScene MakeCorridorScene(const CorridorSceneOptions& options = CorridorSceneOptions());
 
-// "urban" | "corridor"; throws std::invalid_argument otherwise.
+struct HighwaySceneOptions {
+  double corner_radius = 500.0;     // m, the loop's curves (clamped to fit the legs)
+  double speed = 30.0;              // m/s, the scene's default driving speed
+  double rail_post_spacing = 4.0;   // m, guard rail posts (0: a bare rail)
+  double pole_spacing = 70.0;       // m, mean spacing of the median's lamp poles (+-40 %)
+  double sign_spacing = 600.0;      // m, mean spacing of the gantry-less roadside signs
+  double plant_spacing = 8.0;       // m, mean spacing of trees and bushes per verge (0: none)
+  double building_spacing = 900.0;  // m, mean spacing of the few buildings (30-90 m off)
+  std::uint64_t seed = 1;
+};
+// An open road: a 9.0 km loop of long straights (one with a gentle S bend) and wide curves, the
+// vehicle in the right lane of a dual carriageway; guard rails on the right shoulder, the median
+// and the far side (the same cross-section everywhere: only the rail posts, sparse poles, trees
+// and bushes on the verges, signs and a few buildings fix the along-road position), a flat
+// ground, nothing overhead.
+// Driven at 30 m/s by default (3 m per 10 Hz scan).
+LidarScene MakeHighwayScene(const HighwaySceneOptions& options = HighwaySceneOptions());
+
+// "urban" | "corridor" | "highway"; throws std::invalid_argument otherwise.
 LidarScene MakeScene(const std::string& name, std::uint64_t seed);
 
 }  // namespace sim

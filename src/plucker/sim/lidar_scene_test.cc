@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "plucker/sim/lidar_sim.h"
+
 namespace plucker {
 namespace sim {
 namespace {
@@ -149,6 +151,50 @@ TEST(LidarScene, UrbanAndCorridorScenes) {
   ASSERT_TRUE(up.has_value());
   EXPECT_NEAR(up->distance, 2.3, 1e-12);
   EXPECT_THROW(MakeScene("forest", 1), std::invalid_argument);
+}
+
+TEST(LidarScene, HighwayIsAnOpenRoadWithRails) {
+  const LidarScene highway = MakeScene("highway", 1);
+  EXPECT_EQ(highway.name, "highway");
+  EXPECT_EQ(highway.route_speed, 30.0);
+  VehicleTrajectoryOptions motion;
+  motion.speed = highway.route_speed;
+  motion.corner_radius = highway.route_corner_radius;
+  const VehicleTrajectory drive(highway.route, motion);
+  EXPECT_GT(drive.loop_length(), 9000.0);
+  EXPECT_NEAR(drive.DistanceAt(0.1), 3.0, 1e-12);  // 3 m per 10 Hz scan
+  int rails = 0, samples = 0;
+  for (double s = 0.0; s < drive.loop_length(); s += 50.0, ++samples) {
+    const SE3d T_w_s = drive.T_w_s(s / motion.speed);
+    const Eigen::Matrix3d R = T_w_s.RotationMatrix();
+    const Eigen::Vector3d p = T_w_s.translation();
+    // The right guard rail's inner face, 4.45 m to the right at rail height (chords of the
+    // curves: within 2 cm), and nothing overhead.
+    const auto right = highway.Cast(Eigen::Vector3d(p.x(), p.y(), 0.6), -(R.col(1)), 0, 50);
+    if (right && std::abs(right->distance - 4.45) < 0.02) ++rails;
+    EXPECT_FALSE(highway.Cast(p, Eigen::Vector3d::UnitZ(), 0, 100)) << "s = " << s;
+  }
+  EXPECT_EQ(rails, samples);
+  // Along the first straight, looking ahead at sensor height: open road within 120 m (the
+  // along-track direction is fixed by the ground and rails alone, besides sparse objects).
+  for (double s = 0.0; s <= 500.0; s += 25.0) {
+    const SE3d T_w_s = drive.T_w_s(s / motion.speed);
+    EXPECT_FALSE(highway.Cast(T_w_s.translation(), T_w_s.RotationMatrix().col(0), 0, 120))
+        << "s = " << s;
+  }
+  // A scan there: mostly ground, a few percent rails and objects, no hit beyond the range.
+  LidarSimOptions sensor;
+  for (int k = 0; k < 32; ++k) sensor.elevation_rad.push_back((-24.0 + 0.8 * k) * M_PI / 180);
+  sensor.azimuth_steps = 900;
+  const LidarSimulator simulator(highway, sensor);
+  const LidarScan scan = simulator.Scan(drive, 2.0, 0);
+  ASSERT_GT(scan.size(), 10000u);
+  std::size_t off_ground = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.points[i].z() > -1.5) ++off_ground;  // sensor frame, 1.73 m above the ground
+  }
+  EXPECT_GT(off_ground, scan.size() / 50);
+  EXPECT_LT(off_ground, scan.size() / 2);
 }
 
 }  // namespace
