@@ -65,10 +65,15 @@ TEST(StartBundleAdjustment, RemovesAGravityTiltOfTheAlignment) {
   o.init_ba_iterations = 20;
   VisualInertialInitializer init(o, in.calib);
   std::vector<window::FrameInput> frames;
+  std::vector<inertial::ImageMotionFlag> flags;
   bool done = false;
   for (std::size_t i = 0; i < in.frames.size() && !done; ++i) {
     frames.push_back(in.frames[i]);
-    done = init.Advance(frames, in.imu, {}, false);
+    if (i > 0) {
+      const auto flag = ImageMotion(frames[i - 1], frames[i], o.image_still_px);
+      if (flag) flags.push_back(*flag);
+    }
+    done = init.Advance(frames, in.imu, flags, i + 1 == in.frames.size());
   }
   ASSERT_TRUE(done);
   VioStart start = init.start();
