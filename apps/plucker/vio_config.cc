@@ -91,6 +91,14 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("init.image_still_span_s", "s",
           "the static test's image motion: against the newest frame at least this much older",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.image_still_span_s));
+  t.Value("init.ba_iterations", "iterations",
+          "dynamic start: bundle adjustment over the alignment's keyframes (0: off)", AtLeast(0),
+          PLUCKER_OPTION_MEMBER(odometry.init_ba_iterations));
+  t.Value("init.ba_accel_bias_prior_sigma", "m/s^2",
+          "its prior on the first keyframe's accel bias (weak)", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.init_ba_accel_bias_prior_sigma));
+  t.Value("init.ba_velocity_prior_sigma", "m/s", "its prior on the first keyframe's velocity",
+          Above(0.0), PLUCKER_OPTION_MEMBER(odometry.init_ba_velocity_prior_sigma));
   t.Value(SharedVisualOption("points.max_tracks"),
           PLUCKER_OPTION_MEMBER(odometry.max_point_tracks));
   t.Value(SharedVisualOption("points.min_distance_px"),

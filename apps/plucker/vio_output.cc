@@ -130,6 +130,17 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
                            {"frames", {init.first, init.second}},
                            {"events", events},
                            {"state_first", InertialStateJson(init.state_first)}};
+  if (init.adjustment.ran) {
+    const odometry::StartAdjustmentSummary& a = init.adjustment;
+    out["initialization"]["bundle_adjustment"] = {{"ok", a.ok},
+                                                  {"keyframes", a.keyframes},
+                                                  {"points", a.points},
+                                                  {"lines", a.lines},
+                                                  {"iterations", a.iterations},
+                                                  {"final_cost", a.final_cost},
+                                                  {"tilt_change_deg", a.tilt_change_deg},
+                                                  {"scale_change", a.scale_change}};
+  }
   const double duration = times_.empty() ? 0.0 : times_.back() - times_.front();
   const int poses = static_cast<int>(
       std::count_if(vio.RefinedTrajectory().begin(), vio.RefinedTrajectory().end(),

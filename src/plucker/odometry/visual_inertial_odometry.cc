@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "plucker/odometry/visual_inertial_initializer.h"
+#include "plucker/odometry/visual_inertial_start_ba.h"
 #include "plucker/vision/undistort.h"
 
 namespace plucker {
@@ -22,7 +23,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       init_max_keyframes < init_min_keyframes || !(max_imu_factor_span_s > 0.0) ||
       !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
       !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
-      !(init_gyro_bias_bound >= 0.0) || !(image_still_span_s >= 0.0) ||
+      !(init_gyro_bias_bound >= 0.0) || !(image_still_span_s >= 0.0) || init_ba_iterations < 0 ||
+      !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
       !(keyframe_max_rotation_deg >= 0.0) || !(tracking_velocity_sigma >= 0.0) ||
       max_point_tracks < 1 || !(point_min_distance_px >= 0.0) ||
       !(point_detect_below_share > 0.0 && point_detect_below_share <= 1.0) ||
@@ -30,8 +32,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       line_flow_samples < 0 || line_flow_samples > 1000) {
     return "an option is out of range (window >= 2, init_min_keyframes >= 4, init_max_keyframes "
            ">= init_min_keyframes, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
-           "point_min_distance_px >= 0, 0 < point_detect_below_share <= 1, 0 < "
-           "line_detection_scale <= 1, line_flow_samples in "
+           "init_ba_iterations >= 0, point_min_distance_px >= 0, 0 < point_detect_below_share "
+           "<= 1, 0 < line_detection_scale <= 1, line_flow_samples in "
            "[0, 1000])";
   }
   if (!(extrinsic_rotation_sigma > 0.0) || !(extrinsic_translation_sigma > 0.0) ||
@@ -252,6 +254,8 @@ VioFrameRecord VisualInertialOdometry::Impl::Track(int index, const window::Fram
 void VisualInertialOdometry::Impl::StartWindow() {
   VioStart start = initializer.start();
   const int n = static_cast<int>(frames.size());
+  if (start.method == "dynamic" && o.init_ba_iterations > 0)
+    init_info.adjustment = AdjustDynamicStart(o, calib, frames, imu, &start);
   estimator =
       std::make_unique<window::SlidingWindowEstimator>(calib.camera.K, WindowOptions(o, calib));
   estimator->AddImu(imu);

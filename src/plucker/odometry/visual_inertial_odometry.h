@@ -75,6 +75,13 @@ struct VisualInertialOdometryOptions {
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
   double init_max_rotation_disagreement_deg = 1.0;
   double init_gyro_bias_bound = 0.1;  // rad/s, the largest gyro bias expected before it is known
+  // The visual-inertial bundle adjustment of the dynamic start over all the alignment's
+  // keyframes (visual_inertial_start_ba.h): its iteration budget (0: off, the window starts on the
+  // aligned states) and its priors on the first keyframe's accelerometer bias (m/s^2, weak: the
+  // alignment's bias carries its gravity tilt) and velocity (m/s).
+  int init_ba_iterations = 0;
+  double init_ba_accel_bias_prior_sigma = 0.5;
+  double init_ba_velocity_prior_sigma = 0.5;
   // A frame whose median point displacement against the previous frame exceeds this moves
   // (vetoes the static initialisation over its IMU block; else the window's zero-motion update).
   double image_still_px = 3.0;
@@ -209,12 +216,22 @@ struct VioInitEvent {
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), up_b = Eigen::Vector3d::Zero();
 };
 
+// What the dynamic start's bundle adjustment did (visual_inertial_start_ba.h).
+struct StartAdjustmentSummary {
+  bool ran = false, ok = false;
+  int keyframes = 0, points = 0, lines = 0, iterations = 0;
+  double final_cost = 0.0;
+  double tilt_change_deg = 0.0;  // gravity direction in the newest keyframe's body, moved by
+  double scale_change = 1.0;     // distance first to newest keyframe, after / before
+};
+
 struct VioInitialization {
   bool done = false;
   std::string method;  // static | dynamic
   int first = -1, second = -1;
   sensor::BodyState state_first;
   std::vector<VioInitEvent> events;
+  StartAdjustmentSummary adjustment;  // the start's bundle adjustment (init_ba_iterations > 0)
 };
 
 class VisualInertialOdometry {

@@ -131,6 +131,12 @@ struct InertialOptions {
   double gyro_bias_prior_sigma = 0.01;  // rad/s
   double accel_bias_prior_sigma = 0.1;  // m/s^2
   double velocity_prior_sigma = 0.1;    // m/s
+  // Before the first marginalization (no prior yet) the oldest keyframe holds the gauge: its whole
+  // pose (false, default), or only its position and yaw (true: its roll and pitch, observable
+  // through gravity, are solved for; factors/pose_manifold.h RollPitchPoseManifold). The
+  // visual-inertial bundle adjustment of the dynamic start (odometry/visual_inertial_start_ba.h)
+  // sets it to correct the alignment's gravity direction.
+  bool free_first_tilt = false;
   // An IMU factor is integrated again when the bias at its start moved further than this from
   // its linearisation point.
   double repropagate_gyro_bias = 2e-3;   // rad/s

@@ -159,6 +159,7 @@ struct SlidingWindowEstimator::Impl {
   std::map<const double*, std::vector<double>> fe;  // their first estimates
   std::unique_ptr<ceres::LossFunction> loss;
   PoseManifold pose_manifold;
+  RollPitchPoseManifold roll_pitch_manifold;  // InertialOptions::free_first_tilt
   LineManifold line_manifold;
   // SlidingWindowOptions::prior_blocks: how the oldest keyframe leaves the window.
   std::unique_ptr<internal::MarginalizationStrategy> marginalization;

@@ -187,7 +187,11 @@ int SlidingWindowEstimator::Impl::BuildProblem(ceres::Problem* problem, bool hol
   }
   if (hold_gauge && !prior && !HasPosePrior() &&
       problem->HasParameterBlock(keyframes.front()->pose)) {
-    problem->SetParameterBlockConstant(keyframes.front()->pose);
+    if (opt.inertial && opt.inertial->free_first_tilt && keyframes.size() > 1) {
+      problem->SetManifold(keyframes.front()->pose, &roll_pitch_manifold);
+    } else {
+      problem->SetParameterBlockConstant(keyframes.front()->pose);
+    }
   }
   return n;
 }
