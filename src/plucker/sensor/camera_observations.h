@@ -17,6 +17,11 @@ struct PointObservation {
   // track's two previous observations. A given velocity should not be computed with this
   // observation (its noise would bias the offset), e.g. the flow between the two frames before.
   std::optional<Eigen::Vector2d> uv_velocity = std::nullopt;
+  // The noise of uv when it is not the sequence's uniform pixel noise: the square-root
+  // information relative to it (W with W^T W = Sigma^-1 sigma^2, Sigma the covariance of uv).
+  // A fisheye's raw point mapped into its pinhole view (fisheye_rig.h) carries the inverse of
+  // the mapping's Jacobian: its raw-pixel noise, stretched towards the view's edges. None: uniform.
+  std::optional<Eigen::Matrix2d> sqrt_info_scale = std::nullopt;
 };
 
 struct SegmentObservation {

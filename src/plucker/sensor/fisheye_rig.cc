@@ -27,6 +27,18 @@ Camera ViewCamera(const CameraRig& rig) {
   return c;
 }
 
+Eigen::Matrix2d RawFromViewJacobian(const Camera& raw, const Camera& view,
+                                    const Eigen::Vector2d& uv_view) {
+  const Eigen::Vector3d ray((uv_view.x() - view.K.cx) / view.K.fx,
+                            (uv_view.y() - view.K.cy) / view.K.fy, 1.0);
+  Eigen::Matrix<double, 2, 3> d_raw_d_ray;
+  if (!raw.ProjectWithJacobian(ray, &d_raw_d_ray)) return Eigen::Matrix2d::Identity();
+  Eigen::Matrix<double, 3, 2> d_ray_d_view = Eigen::Matrix<double, 3, 2>::Zero();
+  d_ray_d_view(0, 0) = 1.0 / view.K.fx;
+  d_ray_d_view(1, 1) = 1.0 / view.K.fy;
+  return d_raw_d_ray * d_ray_d_view;
+}
+
 PinholeViewStats ToPinholeView(CameraImuSequence* sequence, double max_incidence_deg) {
   if (!(max_incidence_deg > 0.0 && max_incidence_deg <= 90.0)) {
     throw std::invalid_argument("ToPinholeView: max_incidence_deg must be in (0, 90]");
@@ -49,6 +61,7 @@ PinholeViewStats ToPinholeView(CameraImuSequence* sequence, double max_incidence
       }
       p.uv = view.K.ToPixel<double>(bearing->head<2>() / bearing->z());
       p.uv_velocity.reset();  // a raw-pixel velocity is not one of the view
+      p.sqrt_info_scale = RawFromViewJacobian(raw, view, p.uv);
       kept.push_back(p);
       ++st.converted_points;
     }

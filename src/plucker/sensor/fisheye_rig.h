@@ -26,11 +26,15 @@ struct PinholeViewStats {
   int dropped_points = 0;    // beyond the valid angle or max_incidence_deg
 };
 
-// The default of ToPinholeView: raw points up to 60 deg off the axis. The window weighs every
-// point in view pixels with one sigma, while a raw pixel's noise grows in the view by up to
-// 1 / cos^2(theta) radially (4x at 60 deg): more points far off-axis made the simulated room's
-// VIO worse, not better (docs/results/fisheye.md).
+// The default of ToPinholeView: raw points up to 60 deg off the axis. A raw pixel's noise grows
+// in the view by up to 1 / cos^2(theta) radially (4x at 60 deg); each mapped point carries that
+// as its PointObservation::sqrt_info_scale (RawFromViewJacobian), which the window weighs it by.
 constexpr double kDefaultMaxIncidenceDeg = 60.0;
+
+// d raw pixel / d view pixel at a view pixel (identity where the raw camera cannot project it):
+// the square-root information of a raw point mapped into the view, relative to its raw noise.
+Eigen::Matrix2d RawFromViewJacobian(const Camera& raw, const Camera& view,
+                                    const Eigen::Vector2d& uv_view);
 
 // Rewrites the sequence in the view's pinhole: points mapped (raw points) and the rig replaced
 // by ViewCamera's K and size (fisheye cleared, T_b_c kept). A pinhole sequence is unchanged.

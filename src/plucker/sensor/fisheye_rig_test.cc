@@ -110,6 +110,46 @@ TEST(FisheyeRig, RawPointsMapOntoTheViewProjection) {
   EXPECT_THROW(ToPinholeView(&seq, 95.0), std::invalid_argument);
 }
 
+// Each mapped point carries the inverse of the raw -> view map's Jacobian (central differences
+// through the lens model) as its noise weight; the view points and pinhole rigs carry none.
+TEST(FisheyeRig, MappedPointsCarryTheirStretchedRawNoise) {
+  CameraImuSequence seq = sim::ToCameraImuSequence(SimulateFisheye(false, 0.0));
+  const Camera raw = RawCamera(seq.rig), view = ViewCamera(seq.rig);
+  std::vector<Eigen::Vector2d> raw_uv;
+  for (const PointObservation& p : seq.points) raw_uv.push_back(p.uv);
+  const auto to_view = [&](const Eigen::Vector2d& uv) {
+    const Eigen::Vector3d b = *raw.PixelToBearing(uv);
+    return Eigen::Vector2d(view.K.ToPixel<double>(b.head<2>() / b.z()));
+  };
+  const CameraImuSequence before = seq;
+  ToPinholeView(&seq, 75.0);
+  int checked = 0;
+  double most_stretch = 1.0;
+  for (const PointObservation& p : seq.points) {
+    ASSERT_TRUE(p.sqrt_info_scale);
+    if (p.point_id < 0) continue;  // outliers: several a frame share the id
+    // The raw pixel of this point (the mapping keeps the order; find it by frame and id).
+    Eigen::Vector2d uv_raw = Eigen::Vector2d::Constant(NAN);
+    for (const PointObservation& q : before.points)
+      if (q.frame == p.frame && q.point_id == p.point_id && (to_view(q.uv) - p.uv).norm() < 1e-9)
+        uv_raw = q.uv;
+    ASSERT_TRUE(uv_raw.allFinite());
+    Eigen::Matrix2d J_view_raw;
+    const double h = 1e-4;
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector2d d = h * Eigen::Vector2d::Unit(k);
+      J_view_raw.col(k) = (to_view(uv_raw + d) - to_view(uv_raw - d)) / (2 * h);
+    }
+    const Eigen::Matrix2d product = *p.sqrt_info_scale * J_view_raw;
+    EXPECT_LT((product - Eigen::Matrix2d::Identity()).norm(), 1e-6) << p.frame << " " << p.point_id;
+    most_stretch =
+        std::max(most_stretch, J_view_raw.norm() / std::sqrt(2.0) / (view.K.fx / raw.K.fx));
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_GT(most_stretch, 2.0);  // off-axis points really are down-weighted
+}
+
 // Points already in the view (and a pinhole rig) are left as they are.
 TEST(FisheyeRig, ViewPointsAndPinholeRigsAreUnchanged) {
   CameraImuSequence seq = sim::ToCameraImuSequence(SimulateFisheye(true, 1.0));
@@ -118,7 +158,10 @@ TEST(FisheyeRig, ViewPointsAndPinholeRigsAreUnchanged) {
   EXPECT_EQ(ToPinholeView(&seq).converted_points, 0);
   EXPECT_EQ(seq.rig.K.K(), view_K.K());
   ASSERT_EQ(seq.points.size(), points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(seq.points[i].uv, points[i].uv);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(seq.points[i].uv, points[i].uv);
+    EXPECT_FALSE(seq.points[i].sqrt_info_scale);
+  }
   sim::CameraSimulationOptions o;
   o.num_frames = 3;
   CameraImuSequence pinhole = sim::ToCameraImuSequence(sim::SimulateCamera(o));

@@ -73,8 +73,8 @@ void SlidingWindowEstimator::Impl::UseExtrinsicBlock(std::vector<ResidualSpec>* 
     if (r.frame == nullptr) continue;
     if (!TimeOffsetOn()) {
       if (r.is_point) {
-        const Eigen::Vector2d& uv = r.frame->input.points[r.observation].uv;
-        r.cost.reset(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()));
+        const sensor::PointObservation& p = r.frame->input.points[r.observation];
+        r.cost.reset(PointReprojectionFactorVI::Create(K, p.uv, PointSqrtInfo(p)));
       } else {
         const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
         r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px, LineSqrtInfo(),
@@ -88,7 +88,7 @@ void SlidingWindowEstimator::Impl::UseExtrinsicBlock(std::vector<ResidualSpec>* 
     if (r.is_point) {
       const sensor::PointObservation& p = r.frame->input.points[r.observation];
       vi = PointReprojectionFactorVITimeOffset::Create(
-          K, p.uv, p.uv_velocity.value_or(Eigen::Vector2d::Zero()), PointSqrtInfo());
+          K, p.uv, p.uv_velocity.value_or(Eigen::Vector2d::Zero()), PointSqrtInfo(p));
     } else {
       const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
       vi = AnchoredLineFactorVITimeOffset::Create(K, seg.s_px, seg.e_px,

@@ -222,7 +222,10 @@ struct SlidingWindowEstimator::Impl {
                           const std::vector<int>& remove_lines, WindowFrameResult* result);
 
   // --- window_residuals.cc: residuals and the problem ----------------------------------------
-  Eigen::Matrix2d PointSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.point_sigma_px; }
+  Eigen::Matrix2d PointSqrtInfo(const sensor::PointObservation& p) const {
+    const Eigen::Matrix2d uniform = Eigen::Matrix2d::Identity() / opt.point_sigma_px;
+    return p.sqrt_info_scale ? Eigen::Matrix2d(*p.sqrt_info_scale * uniform) : uniform;
+  }
   Eigen::Matrix2d LineSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.line_sigma_px; }
   // The visual costs on (pose, landmark): with the time offset, the observation moved by the
   // current estimate, held (tracking, culling); UseExtrinsicBlock frees td in the window.

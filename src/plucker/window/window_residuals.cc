@@ -22,12 +22,12 @@ using internal::RetainedPose;
 
 ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(
     const sensor::PointObservation& p) const {
-  if (!opt.inertial) return PointReprojectionFactor::Create(K, p.uv, PointSqrtInfo());
+  if (!opt.inertial) return PointReprojectionFactor::Create(K, p.uv, PointSqrtInfo(p));
   // With the time offset: the observation moved by the current estimate, uv - td v.
   const Eigen::Vector2d uv = TimeOffsetOn() && p.uv_velocity
                                  ? Eigen::Vector2d(p.uv - time_offset[0] * *p.uv_velocity)
                                  : p.uv;
-  return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo()),
+  return new HeldExtrinsicFactor<3>(PointReprojectionFactorVI::Create(K, uv, PointSqrtInfo(p)),
                                     T_b_c);
 }
 
