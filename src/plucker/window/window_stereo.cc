@@ -55,7 +55,7 @@ void SlidingWindowEstimator::Impl::AppendRightResiduals(Frame* f, bool with_poin
       const sensor::PointObservation& p = f->input.right_points[f->right_point[i]];
       ResidualSpec r;
       r.cost.reset(new HeldExtrinsicFactor<3>(
-          PointReprojectionFactorVI::Create(K, p.uv, PointSqrtInfo()), T_c0_c1));
+          PointReprojectionFactorVI::Create(K, p.uv, PointSqrtInfo(p)), T_c0_c1));
       r.blocks = std::vector<double*>{f->pose, it->second->p};
       r.frame = f;
       r.observation = static_cast<int>(i);
