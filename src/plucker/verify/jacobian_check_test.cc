@@ -65,7 +65,7 @@ TEST(RunJacobianChecks, FailsOnEmptyOrUnexpectedSelection) {
   EXPECT_FALSE(too_many.ok());
   EXPECT_EQ(too_many.stats.size(), 8u);  // four reprojection, two anchored, time offset, stereo
   const JacobianCheckRun exact =
-      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 7, options);
+      RunJacobianChecks(FactorJacobianChecks(), "factor.line.", 8, options);
   EXPECT_TRUE(exact.ok()) << exact.error;
 }
 
