@@ -1,5 +1,5 @@
 # libFuzzer targets for the io readers: kitti_bin_fuzz, pcd_fuzz, pose_fuzz, euroc_fuzz,
-# segments_fuzz, kalibr_fuzz.
+# segments_fuzz, kalibr_fuzz, png_gray_fuzz.
 #
 # Enabled with -DPLUCKER_BUILD_FUZZERS=ON and clang. Include this file BEFORE
 # add_subdirectory(src/plucker) (the libraries must get coverage instrumentation too), e.g.
@@ -18,7 +18,7 @@ if(PLUCKER_BUILD_FUZZERS)
                       -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
   set(_plucker_fuzz_dir "${CMAKE_CURRENT_LIST_DIR}/../src/plucker/io")
-  foreach(_name kitti_bin pcd pose euroc segments kalibr)
+  foreach(_name kitti_bin pcd pose euroc segments kalibr png_gray)
     add_executable(${_name}_fuzz "${_plucker_fuzz_dir}/${_name}_fuzz.cc")
     target_compile_definitions(${_name}_fuzz PRIVATE PLUCKER_LIBFUZZER)
     target_compile_features(${_name}_fuzz PRIVATE cxx_std_17)

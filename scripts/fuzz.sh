@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (kitti_bin_fuzz, pcd_fuzz, pose_fuzz, euroc_fuzz, segments_fuzz,
-# kalibr_fuzz)
+# kalibr_fuzz, png_gray_fuzz)
 # with clang in a separate build folder and runs each for SECONDS (default 60) from a seed corpus
 # the fuzzers write themselves (valid .bin, calib/times text, ascii/binary/compressed PCD, PLY,
 # KITTI/TUM poses, EuRoC IMU/ground-truth CSV and sensor.yaml, segment files).
@@ -16,7 +16,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BUILD:-$ROOT/build/fuzz}"
 CXX_BIN="${CXX:-clang++-14}"
 JOBS="${JOBS:-2}"
-TARGETS=(kitti_bin_fuzz pcd_fuzz pose_fuzz euroc_fuzz segments_fuzz kalibr_fuzz)
+TARGETS=(kitti_bin_fuzz pcd_fuzz pose_fuzz euroc_fuzz segments_fuzz kalibr_fuzz png_gray_fuzz)
 
 if ! command -v "$CXX_BIN" > /dev/null; then
   echo "fuzz.sh: $CXX_BIN not found (install clang-14 and libclang-rt-14-dev)" >&2

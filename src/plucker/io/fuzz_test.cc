@@ -9,6 +9,7 @@
 #include "kalibr_fuzz.cc"     // NOLINT(build/include)
 #include "kitti_bin_fuzz.cc"  // NOLINT(build/include)
 #include "pcd_fuzz.cc"        // NOLINT(build/include)
+#include "png_gray_fuzz.cc"   // NOLINT(build/include)
 #include "pose_fuzz.cc"       // NOLINT(build/include)
 #include "segments_fuzz.cc"   // NOLINT(build/include)
 
@@ -45,6 +46,14 @@ TEST(FuzzTargets, SeedsParse) {
   for (const std::string& s : PoseSeeds()) {
     EXPECT_EQ(ParseTrajectory(s, "seed", TrajectoryFormat::kAuto).poses.size(), 2u);
   }
+}
+
+TEST(FuzzTargets, PngGray) {
+  for (const std::string& s : PngGraySeeds()) {
+    const auto* d = reinterpret_cast<const std::uint8_t*>(s.data());
+    EXPECT_EQ(DecodeGrayPng(d, s.size()).has_value(), HasFastGrayPng());
+  }
+  RunCorpus(&PngGrayOneInput, PngGraySeeds(), 3000, 7);
 }
 
 TEST(FuzzTargets, Kalibr) {
