@@ -48,13 +48,28 @@ void ImuPreintegration::Reset() {
 
 void ImuPreintegration::Integrate(double dt, const Eigen::Vector3d& gyro,
                                   const Eigen::Vector3d& accel) {
-  if (!FinitePositive(dt)) {
+  Add({dt, gyro, accel});
+}
+
+void ImuPreintegration::IntegrateBridged(double dt, const Eigen::Vector3d& gyro,
+                                         const Eigen::Vector3d& accel,
+                                         const Eigen::Vector3d& gyro_sigma,
+                                         const Eigen::Vector3d& accel_sigma) {
+  if (!gyro_sigma.allFinite() || !accel_sigma.allFinite() || gyro_sigma.minCoeff() < 0.0 ||
+      accel_sigma.minCoeff() < 0.0) {
+    throw std::invalid_argument("ImuPreintegration: bridged reading sigmas must be finite, >= 0");
+  }
+  Add({dt, gyro, accel, gyro_sigma.cwiseAbs2(), accel_sigma.cwiseAbs2()});
+}
+
+void ImuPreintegration::Add(const Sample& s) {
+  if (!FinitePositive(s.dt)) {
     throw std::invalid_argument("ImuPreintegration: sample period must be finite and positive");
   }
-  if (!gyro.allFinite() || !accel.allFinite()) {
+  if (!s.gyro.allFinite() || !s.accel.allFinite()) {
     throw std::invalid_argument("ImuPreintegration: non-finite IMU sample");
   }
-  samples_.push_back({dt, gyro, accel});
+  samples_.push_back(s);
   Propagate(samples_.back());
 }
 
@@ -103,6 +118,10 @@ void ImuPreintegration::Propagate(const Sample& s) {
   covariance_ = A15 * covariance_ * A15.transpose();
   covariance_.topLeftCorner<9, 9>() +=
       var_g * B_g * B_g.transpose() + var_a * B_a * B_a.transpose();
+  if (!s.gyro_var.isZero() || !s.accel_var.isZero()) {  // a bridged step's constant error
+    covariance_.topLeftCorner<9, 9>() += B_g * s.gyro_var.asDiagonal() * B_g.transpose() +
+                                         B_a * s.accel_var.asDiagonal() * B_a.transpose();
+  }
   covariance_.block<3, 3>(6, 6).diagonal().array() += integration_sigma_ * integration_sigma_ * dt;
   covariance_.block<3, 3>(9, 9).diagonal().array() +=
       imu_.gyro_bias_random_walk * imu_.gyro_bias_random_walk * dt;
@@ -150,6 +169,10 @@ NavState ImuPreintegration::Predict(const NavState& i, const sensor::ImuBias& bi
 
 namespace {
 
+// The samples on either side of a gap whose spread sets its bridged readings' error (0.1 s at
+// EuRoC's 200 Hz).
+constexpr int kGapSpreadSamples = 20;
+
 // The readings at time t, interpolated linearly between samples k and k + 1.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingAt(const std::vector<sensor::ImuSample>& imu,
                                                       std::size_t k, double t) {
@@ -160,9 +183,30 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingAt(const std::vector<sensor::
 
 }  // namespace
 
+std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingSpreadAround(
+    const std::vector<sensor::ImuSample>& imu, std::size_t k, int count) {
+  const std::size_t n = static_cast<std::size_t>(std::max(count, 1));
+  const std::size_t first = k + 1 > n ? k + 1 - n : 0;
+  const std::size_t last = std::min(imu.size(), k + 1 + n);  // one past
+  Eigen::Vector3d mean_g = Eigen::Vector3d::Zero(), mean_a = mean_g;
+  for (std::size_t i = first; i < last; ++i) {
+    mean_g += imu[i].gyro;
+    mean_a += imu[i].accel;
+  }
+  const double m = static_cast<double>(last - first);
+  mean_g /= m;
+  mean_a /= m;
+  Eigen::Vector3d var_g = Eigen::Vector3d::Zero(), var_a = var_g;
+  for (std::size_t i = first; i < last; ++i) {
+    var_g += (imu[i].gyro - mean_g).cwiseAbs2();
+    var_a += (imu[i].accel - mean_a).cwiseAbs2();
+  }
+  return {(var_g / m).cwiseSqrt(), (var_a / m).cwiseSqrt()};
+}
+
 ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
                                       double t1, const sensor::ImuBias& bias,
-                                      const sensor::ImuModel& model) {
+                                      const sensor::ImuModel& model, double gap_s) {
   if (!(t1 > t0) || imu.size() < 2 || t0 < imu.front().t || t1 > imu.back().t) {
     throw std::invalid_argument("PreintegrateSamples: the samples do not cover the interval");
   }
@@ -177,7 +221,13 @@ ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu,
     if (!(b > a)) continue;
     const auto [gyro_a, accel_a] = ReadingAt(imu, k, a);
     const auto [gyro_b, accel_b] = ReadingAt(imu, k, b);
-    p.Integrate(b - a, 0.5 * (gyro_a + gyro_b), 0.5 * (accel_a + accel_b));
+    if (imu[k + 1].t - imu[k].t > gap_s) {
+      const auto [gyro_sigma, accel_sigma] = ReadingSpreadAround(imu, k, kGapSpreadSamples);
+      p.IntegrateBridged(b - a, 0.5 * (gyro_a + gyro_b), 0.5 * (accel_a + accel_b), gyro_sigma,
+                         accel_sigma);
+    } else {
+      p.Integrate(b - a, 0.5 * (gyro_a + gyro_b), 0.5 * (accel_a + accel_b));
+    }
   }
   return p;
 }

@@ -26,6 +26,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "plucker/sensor/imu.h"
@@ -59,6 +61,15 @@ class ImuPreintegration {
   // Adds one sample held for dt seconds. Throws std::invalid_argument for dt <= 0 or non-finite
   // values (nothing is changed then).
   void Integrate(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
+
+  // Adds a step whose readings were not measured but bridged across an IMU gap (e.g. the mean of
+  // the samples at its two ends). Besides the white noise of Integrate, the bridged reading is
+  // off by an error that stays constant over the step: per body axis, standard deviations
+  // gyro_sigma (rad/s) and accel_sigma (m/s^2), a variance sigma^2 per step instead of the
+  // white noise's density^2 / dt (so the velocity's grows as (sigma dt)^2, not density^2 dt).
+  // Throws std::invalid_argument as Integrate does, and for sigmas that are not finite and >= 0.
+  void IntegrateBridged(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                        const Eigen::Vector3d& gyro_sigma, const Eigen::Vector3d& accel_sigma);
 
   // Integrates the stored samples again with a new linearisation point.
   void Repropagate(const sensor::ImuBias& bias_lin);
@@ -95,8 +106,11 @@ class ImuPreintegration {
   struct Sample {
     double dt;
     Eigen::Vector3d gyro, accel;
+    // Variance of a bridged reading's constant error (IntegrateBridged; zero for a measured one).
+    Eigen::Vector3d gyro_var = Eigen::Vector3d::Zero(), accel_var = Eigen::Vector3d::Zero();
   };
   void Reset();
+  void Add(const Sample& s);
   void Propagate(const Sample& s);
 
   sensor::ImuBias bias_lin_;
@@ -115,8 +129,19 @@ class ImuPreintegration {
 // the mean of the readings at its two ends. With the mid-step rotation of Integrate the scheme is
 // of second order (test ImuPreintegration.SampleStreamConvergesAtSecondOrder). Throws
 // std::invalid_argument when t1 <= t0 or the samples (increasing times) do not cover [t0, t1].
+//
+// gap_s: a step between samples longer than this is a gap, bridged (IntegrateBridged) with the
+// readings' own spread about their mean over the gap_window samples on either side of it (at rest
+// that is the rotor vibration, which the interpolated readings miss: the mean of two vibrating
+// end samples is off the gap's true mean by about that spread). Infinity: no gap handling.
 ImuPreintegration PreintegrateSamples(const std::vector<sensor::ImuSample>& imu, double t0,
                                       double t1, const sensor::ImuBias& bias,
-                                      const sensor::ImuModel& model);
+                                      const sensor::ImuModel& model,
+                                      double gap_s = std::numeric_limits<double>::infinity());
+
+// The spread (standard deviation per axis) of the gyro and accelerometer readings about their
+// mean over up to `count` samples on either side of the step from sample k to k + 1.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> ReadingSpreadAround(
+    const std::vector<sensor::ImuSample>& imu, std::size_t k, int count);
 
 }  // namespace plucker

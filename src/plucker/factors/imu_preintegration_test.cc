@@ -191,6 +191,104 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   }
 }
 
+// A bridged step (IntegrateBridged: an IMU gap of 0.2 s whose reading is off by an error constant
+// over the step) in the middle of measured samples: the covariance against Monte Carlo draws of
+// that error and of the white noise of the measured samples. Treated as white noise instead, the
+// same error would be understated 40x in variance (density^2 / dt against sigma^2 per step).
+TEST(ImuPreintegration, BridgedStepCovarianceMatchesMonteCarlo) {
+  const auto readings = RandomReadings(41, 8);
+  sensor::ImuModel noise;
+  noise.gyro_noise_density = 2e-3;
+  noise.accel_noise_density = 2e-2;
+  const Eigen::Vector3d gyro_sigma(0.02, 0.01, 0.03), accel_sigma(0.3, 1.0, 0.2);
+  const int gap = 20;  // the step of sample 20 lasts 0.2 s
+  const double gap_dt = 0.2;
+  auto step = [&](ImuPreintegration* p, int k, const Eigen::Vector3d& g, const Eigen::Vector3d& a) {
+    if (k == gap)
+      p->IntegrateBridged(gap_dt, g, a, gyro_sigma, accel_sigma);
+    else
+      p->Integrate(0.005, g, a);
+  };
+  ImuPreintegration clean(sensor::ImuBias(), noise);
+  for (int k = 0; k < 41; ++k) step(&clean, k, readings[k].head<3>(), readings[k].tail<3>());
+  const Matrix9d info = clean.Covariance().inverse();
+  std::mt19937_64 rng(12);
+  std::normal_distribution<double> n01;
+  const double sg = noise.gyro_noise_density / std::sqrt(0.005);
+  const double sa = noise.accel_noise_density / std::sqrt(0.005);
+  const int trials = 2000;
+  Matrix9d scatter = Matrix9d::Zero();
+  double mahalanobis = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    ImuPreintegration p(sensor::ImuBias(), noise);
+    for (int k = 0; k < 41; ++k) {
+      const Eigen::Vector3d ng(n01(rng), n01(rng), n01(rng)), na(n01(rng), n01(rng), n01(rng));
+      Eigen::Vector3d eg = sg * ng, ea = sa * na;
+      if (k == gap) {  // the bridged step: white noise over 0.2 s plus the constant error
+        eg = eg * std::sqrt(0.005 / gap_dt) +
+             gyro_sigma.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
+        ea = ea * std::sqrt(0.005 / gap_dt) +
+             accel_sigma.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
+      }
+      step(&p, k, readings[k].head<3>() + eg, readings[k].tail<3>() + ea);
+    }
+    Eigen::Matrix<double, 9, 1> e;
+    e << LogSO3<double>(Eigen::Quaterniond(clean.DeltaR().transpose() * p.DeltaR())),
+        p.DeltaV() - clean.DeltaV(), p.DeltaP() - clean.DeltaP();
+    scatter += e * e.transpose() / trials;
+    mahalanobis += e.dot(info * e) / trials;
+  }
+  EXPECT_NEAR(mahalanobis, 9.0, 0.6);
+  for (int k = 0; k < 9; ++k) {
+    EXPECT_NEAR(scatter(k, k) / clean.Covariance()(k, k), 1.0, 0.15) << "state " << k;
+  }
+  // Without the bridged error the velocity block is far too small for that scatter.
+  ImuPreintegration white(sensor::ImuBias(), noise);
+  for (int k = 0; k < 41; ++k) {
+    const double dt = k == gap ? gap_dt : 0.005;
+    white.Integrate(dt, readings[k].head<3>(), readings[k].tail<3>());
+  }
+  EXPECT_GT(scatter(4, 4) / white.Covariance()(4, 4), 10.0);
+}
+
+// PreintegrateSamples with gap_s: a step longer than gap_s between samples is bridged with the
+// readings' spread around it (its 20 samples on either side); the same deltas, a larger
+// covariance; without a gap, or with gap_s infinite, the same preintegration as before.
+TEST(ImuPreintegration, SampleStreamBridgesAGap) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n01;
+  std::vector<sensor::ImuSample> imu;
+  for (int k = 0; k <= 200; ++k) {
+    if (k > 90 && k < 130) continue;  // no samples from 0.455 to 0.645 s: a 0.2 s step
+    sensor::ImuSample s;
+    s.t = 0.005 * k;
+    s.gyro = Eigen::Vector3d::Zero();  // no rotation: the velocity's covariance is exact
+    s.accel = Eigen::Vector3d(0.0, 0.0, 9.81) + Eigen::Vector3d(0.0, 1.0 * n01(rng), 0.0);
+    imu.push_back(s);
+  }
+  const sensor::ImuModel model;
+  const sensor::ImuBias bias;
+  const ImuPreintegration plain = PreintegrateSamples(imu, 0.1, 0.9, bias, model);
+  const ImuPreintegration bridged = PreintegrateSamples(imu, 0.1, 0.9, bias, model, 0.05);
+  EXPECT_EQ(bridged.NumSamples(), plain.NumSamples());
+  EXPECT_LT((bridged.DeltaV() - plain.DeltaV()).norm(), 1e-12);
+  EXPECT_LT((bridged.DeltaP() - plain.DeltaP()).norm(), 1e-12);
+  // The y velocity: the bridged error (about 1 m/s^2 over 0.2 s) in quadrature with the noise.
+  const auto [gyro_sigma, accel_sigma] = ReadingSpreadAround(imu, 90, 20);
+  EXPECT_NEAR(accel_sigma.y(), 1.0, 0.3);
+  EXPECT_LT(accel_sigma.x(), 1e-9);
+  EXPECT_LT(gyro_sigma.norm(), 1e-12);
+  const double bridged_var = accel_sigma.y() * accel_sigma.y() * 0.2 * 0.2;
+  EXPECT_NEAR(bridged.Covariance()(4, 4) - plain.Covariance()(4, 4), bridged_var,
+              0.05 * bridged_var);
+  EXPECT_NEAR(bridged.Covariance()(3, 3), plain.Covariance()(3, 3), 1e-15);  // x: no spread
+  // Away from the gap (and no longer step than gap_s): bit-identical.
+  const ImuPreintegration before = PreintegrateSamples(imu, 0.1, 0.4, bias, model);
+  const ImuPreintegration before_gap = PreintegrateSamples(imu, 0.1, 0.4, bias, model, 0.05);
+  EXPECT_EQ(before.Covariance(), before_gap.Covariance());
+  EXPECT_EQ(before.DeltaV(), before_gap.DeltaV());
+}
+
 TEST(ImuPreintegration, RefusesBadInput) {
   sensor::ImuModel bad;
   bad.gyro_noise_density = 0.0;
@@ -203,6 +301,11 @@ TEST(ImuPreintegration, RefusesBadInput) {
                std::invalid_argument);
   EXPECT_THROW(p.Integrate(0.005, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero()),
                std::invalid_argument);
+  const Eigen::Vector3d z = Eigen::Vector3d::Zero();
+  EXPECT_THROW(p.IntegrateBridged(0.1, z, z, Eigen::Vector3d(-1, 0, 0), z), std::invalid_argument);
+  EXPECT_THROW(p.IntegrateBridged(0.1, z, z, z, Eigen::Vector3d(std::nan(""), 0, 0)),
+               std::invalid_argument);
+  EXPECT_THROW(p.IntegrateBridged(-0.1, z, z, z, z), std::invalid_argument);
   EXPECT_EQ(p.NumSamples(), 0);
   EXPECT_THROW(ImuFactor::Create(p, kGravity), std::invalid_argument);
 }

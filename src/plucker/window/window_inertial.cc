@@ -24,7 +24,7 @@ using internal::ZeroMotionResidual;
 // do not cover the interval).
 ImuPreintegration SlidingWindowEstimator::Impl::Preintegrate(double t0, double t1,
                                                              const sensor::ImuBias& bias) const {
-  return PreintegrateSamples(imu, t0, t1, bias, opt.inertial->imu);
+  return PreintegrateSamples(imu, t0, t1, bias, opt.inertial->imu, opt.inertial->imu_gap_s);
 }
 
 std::optional<double> SlidingWindowEstimator::Impl::ImuGapStart(double t0, double t1) const {
