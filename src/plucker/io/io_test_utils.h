@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace plucker {
@@ -37,6 +39,36 @@ class ScratchDir {
  private:
   std::filesystem::path path_;
 };
+
+// A whole file as text (empty when it cannot be read).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline void WriteText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+// Replaces line `line` (1-based) of a file.
+inline void ReplaceLine(const std::filesystem::path& path, int line,
+                        const std::string& replacement) {
+  std::istringstream in(ReadText(path));
+  std::string out, l;
+  for (int i = 1; std::getline(in, l); ++i) out += (i == line ? replacement : l) + "\n";
+  WriteText(path, out);
+}
+
+// Line `line` (1-based) of a file.
+inline std::string Line(const std::filesystem::path& path, int line) {
+  std::istringstream in(ReadText(path));
+  std::string l;
+  for (int i = 1; i <= line; ++i) std::getline(in, l);
+  return l;
+}
 
 }  // namespace testing
 }  // namespace io

@@ -15,32 +15,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-}
-
-// Replaces line `line` (1-based) of a file.
-void ReplaceLine(const fs::path& path, int line, const std::string& replacement) {
-  std::istringstream in(ReadText(path));
-  std::string out, l;
-  for (int i = 1; std::getline(in, l); ++i) out += (i == line ? replacement : l) + "\n";
-  WriteText(path, out);
-}
-
-std::string Line(const fs::path& path, int line) {
-  std::istringstream in(ReadText(path));
-  std::string l;
-  for (int i = 1; i <= line; ++i) std::getline(in, l);
-  return l;
-}
+using testing::Line;
+using testing::ReadText;
+using testing::ReplaceLine;
+using testing::WriteText;
 
 sensor::CameraImuSequence SmallSimulation() {
   sim::CameraSimulationOptions o;

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "plucker/eval/ate.h"
+#include "plucker/odometry/vio_test_utils.h"
 #include "plucker/odometry/visual_inertial_odometry.h"
 #include "plucker/sim/camera_observations.h"
 
@@ -27,28 +28,15 @@ TEST(VisualInertialOdometryStandingStart, VisionStartsAfterAStaticStartOnACorrid
   o.seed = 101;
   o.trajectory.standing_start_s = 1.25;
   const sim::CameraSimulation s = sim::SimulateCamera(o);
-  VisualInertialCalibration calib;
-  calib.camera.K = s.rig.K;
-  calib.camera.width = s.rig.width;
-  calib.camera.height = s.rig.height;
-  calib.T_b_c = s.rig.T_b_c;
-  calib.imu = s.imu_options.model;
-  calib.gravity_magnitude = s.imu_options.gravity_w.norm();
-  calib.pixel_sigma = s.obs_options.pixel_sigma;
-  std::vector<window::FrameInput> frames(s.frame_times.size());
-  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = s.frame_times[i];
-  for (const auto& p : s.points) frames[p.frame].points.push_back(p);
+  const VioTestInput in = VioInputFromSimulation(s, /*every_other_point=*/false);
   VisualInertialOdometryOptions options;
   options.use_lines = false;
-  VisualInertialOdometry vio(options, calib);
-  std::size_t k = 0;
+  VisualInertialOdometry vio(options, in.calib);
   int window_points = 0;
-  for (const window::FrameInput& f : frames) {
-    while (k < s.imu.size() && (k == 0 || s.imu[k - 1].t < f.time)) vio.AddImu(s.imu[k++]);
-    const VioFrameResult r = vio.AddFrame(f);
+  FeedVio(vio, in, [&](VisualInertialOdometry&, const VioFrameResult& r) {
     if (r.window) window_points = r.window->window_points;
-  }
-  vio.Finish();
+    return true;
+  });
   EXPECT_EQ(vio.initialization().method, "static");
   const VioStatistics& st = vio.statistics();
   EXPECT_GT(window_points, 50);  // vision started and holds a map
@@ -83,27 +71,14 @@ StillSpan StaticStartOnCorridor(double image_still_span_s) {
   o.seed = 204;
   o.trajectory.standing_start_s = 1.25;
   const sim::CameraSimulation s = sim::SimulateCamera(o);
-  VisualInertialCalibration calib;
-  calib.camera.K = s.rig.K;
-  calib.camera.width = s.rig.width;
-  calib.camera.height = s.rig.height;
-  calib.T_b_c = s.rig.T_b_c;
-  calib.imu = s.imu_options.model;
-  calib.gravity_magnitude = s.imu_options.gravity_w.norm();
-  calib.pixel_sigma = s.obs_options.pixel_sigma;
-  std::vector<window::FrameInput> frames(s.frame_times.size());
-  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].time = s.frame_times[i];
-  for (const auto& p : s.points) frames[p.frame].points.push_back(p);
+  const VioTestInput in = VioInputFromSimulation(s, /*every_other_point=*/false);
   VisualInertialOdometryOptions options;
   options.use_lines = false;
   options.image_still_span_s = image_still_span_s;
-  VisualInertialOdometry vio(options, calib);
-  std::size_t k = 0;
-  for (const window::FrameInput& f : frames) {
-    while (k < s.imu.size() && (k == 0 || s.imu[k - 1].t < f.time)) vio.AddImu(s.imu[k++]);
-    vio.AddFrame(f);
-    if (vio.initialization().done) break;
-  }
+  VisualInertialOdometry vio(options, in.calib);
+  FeedVio(vio, in, [](VisualInertialOdometry& v, const VioFrameResult&) {
+    return !v.initialization().done;
+  });
   StillSpan span;
   for (const VioInitEvent& e : vio.initialization().events) {
     if (e.event != "static_test" || !e.still) continue;

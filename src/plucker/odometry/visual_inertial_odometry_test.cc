@@ -11,40 +11,21 @@
 #include <map>
 
 #include "plucker/eval/ate.h"
+#include "plucker/odometry/vio_test_utils.h"
 #include "plucker/sim/camera_observations.h"
 
 namespace plucker {
 namespace odometry {
 namespace {
 
-struct Input {
-  VisualInertialCalibration calib;
-  std::vector<sensor::ImuSample> imu;
-  std::vector<window::FrameInput> frames;
-  std::vector<SE3d> gt_T_w_b;
-};
+using Input = VioTestInput;
 
 Input Simulate(int num_frames, std::uint64_t seed = 1) {
   sim::CameraSimulationOptions o;
   o.scene.kind = sim::SceneKind::kRoom;
   o.num_frames = num_frames;
   o.seed = seed;
-  const sim::CameraSimulation s = sim::SimulateCamera(o);
-  Input in;
-  in.calib.camera.K = s.rig.K;
-  in.calib.camera.width = s.rig.width;
-  in.calib.camera.height = s.rig.height;
-  in.calib.T_b_c = s.rig.T_b_c;
-  in.calib.imu = s.imu_options.model;
-  in.calib.gravity_magnitude = s.imu_options.gravity_w.norm();
-  in.calib.pixel_sigma = s.obs_options.pixel_sigma;
-  in.imu = s.imu;
-  in.frames.resize(s.frame_times.size());
-  for (std::size_t i = 0; i < in.frames.size(); ++i) in.frames[i].time = s.frame_times[i];
-  for (const auto& p : s.points)
-    if (p.point_id % 2 == 0) in.frames[p.frame].points.push_back(p);
-  in.gt_T_w_b = s.T_w_b_gt;
-  return in;
+  return VioInputFromSimulation(sim::SimulateCamera(o), /*every_other_point=*/true);
 }
 
 VisualInertialOdometryOptions FastOptions() {

@@ -138,53 +138,44 @@ TEST(TrajectoryTest, StandingStartStandsThenMovesSmoothly) {
   EXPECT_THROW(MakeTrajectory(standing, scene, 4), std::invalid_argument);
 }
 
-TEST(TrajectoryTest, AggressiveMotionIsFastAndStaysInFreeSpace) {
+// Drives a preset (MakeAggressive, MakeFast) over 20 s in both scenes, seeds 1-5: the path stays
+// in free space, and its top speed and turn rate fall within the given bounds.
+struct MotionBounds {
+  double min_v, max_v, min_w, max_w;
+};
+
+void ExpectPresetWithin(void (*preset)(TrajectoryOptions*), double step_s, const MotionBounds& b) {
   for (const SceneKind kind : {SceneKind::kRoom, SceneKind::kCorridor}) {
     SceneOptions scene_options;
     scene_options.kind = kind;
     const Scene scene = MakeScene(scene_options, 3);
     TrajectoryOptions options;
     options.duration = 20.0;
-    MakeAggressive(&options);
+    preset(&options);
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
       const Trajectory tr = MakeTrajectory(options, scene, seed);
       double max_v = 0.0, max_w = 0.0;
-      for (double t = 0.0; t <= tr.duration(); t += 0.02) {
+      for (double t = 0.0; t <= tr.duration(); t += step_s) {
         EXPECT_TRUE(scene.free_space_w.contains(tr.position_w(t))) << SceneKindName(kind) << t;
         max_v = std::max(max_v, tr.velocity_w(t).norm());
         max_w = std::max(max_w, tr.angular_velocity_b(t).norm());
       }
-      EXPECT_GT(max_v, 4.0) << SceneKindName(kind);
-      EXPECT_LT(max_v, 8.5) << SceneKindName(kind);
-      EXPECT_GT(max_w, 1.0) << SceneKindName(kind);
-      EXPECT_LT(max_w, 3.0) << SceneKindName(kind);
+      EXPECT_GT(max_v, b.min_v) << SceneKindName(kind) << " seed " << seed;
+      EXPECT_LT(max_v, b.max_v) << SceneKindName(kind) << " seed " << seed;
+      EXPECT_GT(max_w, b.min_w) << SceneKindName(kind) << " seed " << seed;
+      EXPECT_LT(max_w, b.max_w) << SceneKindName(kind) << " seed " << seed;
     }
   }
 }
 
-// Issue 26's fast scene: speeds of 7.5-10 m/s and turns of at least 2 rad/s in both scenes.
+TEST(TrajectoryTest, AggressiveMotionIsFastAndStaysInFreeSpace) {
+  ExpectPresetWithin(&MakeAggressive, 0.02, {4.0, 8.5, 1.0, 3.0});
+}
+
+// Issue 26's fast scene: speeds of 7.5-10 m/s (the room: the lap and sway add up) and turns of at
+// least 2 rad/s in both scenes.
 TEST(TrajectoryTest, FastMotionReachesEightMetresAndTwoRadiansPerSecond) {
-  for (const SceneKind kind : {SceneKind::kRoom, SceneKind::kCorridor}) {
-    SceneOptions scene_options;
-    scene_options.kind = kind;
-    const Scene scene = MakeScene(scene_options, 3);
-    TrajectoryOptions options;
-    options.duration = 20.0;
-    MakeFast(&options);
-    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-      const Trajectory tr = MakeTrajectory(options, scene, seed);
-      double max_v = 0.0, max_w = 0.0;
-      for (double t = 0.0; t <= tr.duration(); t += 0.01) {
-        EXPECT_TRUE(scene.free_space_w.contains(tr.position_w(t))) << SceneKindName(kind) << t;
-        max_v = std::max(max_v, tr.velocity_w(t).norm());
-        max_w = std::max(max_w, tr.angular_velocity_b(t).norm());
-      }
-      EXPECT_GT(max_v, 7.5) << SceneKindName(kind);
-      EXPECT_LT(max_v, 10.0) << SceneKindName(kind);  // the room: the lap and sway add up
-      EXPECT_GT(max_w, 2.0) << SceneKindName(kind);
-      EXPECT_LT(max_w, 5.0) << SceneKindName(kind);
-    }
-  }
+  ExpectPresetWithin(&MakeFast, 0.01, {7.5, 10.0, 2.0, 5.0});
 }
 
 TEST(TrajectoryTest, RejectsInvalidOptions) {
