@@ -157,6 +157,29 @@ TEST(ImuPreintegration, RepropagateEqualsIntegratingAtTheNewBias) {
   EXPECT_LT((p.JointCovariance() - q.JointCovariance()).norm(), 1e-15 * q.JointCovariance().norm());
 }
 
+// Scatter and mean Mahalanobis distance (against clean's covariance) of `trials` noisy
+// preintegrations, each made by noisy(&p) from a fresh ImuPreintegration with clean's model.
+struct MonteCarlo {
+  Matrix9d scatter = Matrix9d::Zero();
+  double mahalanobis = 0.0;
+};
+
+template <typename Noisy>
+MonteCarlo MonteCarloAgainst(const ImuPreintegration& clean, int trials, Noisy noisy) {
+  const Matrix9d info = clean.Covariance().inverse();
+  MonteCarlo mc;
+  for (int t = 0; t < trials; ++t) {
+    ImuPreintegration p(sensor::ImuBias(), clean.Imu());
+    noisy(&p);
+    Eigen::Matrix<double, 9, 1> e;
+    e << LogSO3<double>(Eigen::Quaterniond(clean.DeltaR().transpose() * p.DeltaR())),
+        p.DeltaV() - clean.DeltaV(), p.DeltaP() - clean.DeltaP();
+    mc.scatter += e * e.transpose() / trials;
+    mc.mahalanobis += e.dot(info * e) / trials;
+  }
+  return mc;
+}
+
 // The propagated covariance against the scatter of 2000 noisy integrations of the same motion.
 TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   const auto readings = RandomReadings(100, 7);
@@ -165,26 +188,16 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
   noise.accel_noise_density = 2e-2;
   ImuPreintegration clean(sensor::ImuBias(), noise);
   for (const auto& s : readings) clean.Integrate(0.005, s.head<3>(), s.tail<3>());
-  const Matrix9d info = clean.Covariance().inverse();
   std::mt19937_64 rng(11);
   std::normal_distribution<double> n01;
   const double sg = noise.gyro_noise_density / std::sqrt(0.005);
   const double sa = noise.accel_noise_density / std::sqrt(0.005);
-  const int trials = 2000;
-  Matrix9d scatter = Matrix9d::Zero();
-  double mahalanobis = 0.0;
-  for (int t = 0; t < trials; ++t) {
-    ImuPreintegration p(sensor::ImuBias(), noise);
+  const auto [scatter, mahalanobis] = MonteCarloAgainst(clean, 2000, [&](ImuPreintegration* p) {
     for (const auto& s : readings) {
       const Eigen::Vector3d ng(n01(rng), n01(rng), n01(rng)), na(n01(rng), n01(rng), n01(rng));
-      p.Integrate(0.005, s.head<3>() + sg * ng, s.tail<3>() + sa * na);
+      p->Integrate(0.005, s.head<3>() + sg * ng, s.tail<3>() + sa * na);
     }
-    Eigen::Matrix<double, 9, 1> e;
-    e << LogSO3<double>(Eigen::Quaterniond(clean.DeltaR().transpose() * p.DeltaR())),
-        p.DeltaV() - clean.DeltaV(), p.DeltaP() - clean.DeltaP();
-    scatter += e * e.transpose() / trials;
-    mahalanobis += e.dot(info * e) / trials;
-  }
+  });
   EXPECT_NEAR(mahalanobis, 9.0, 0.5);  // chi-square with 9 degrees of freedom, mean 9
   for (int k = 0; k < 9; ++k) {
     EXPECT_NEAR(scatter(k, k) / clean.Covariance()(k, k), 1.0, 0.15) << "state " << k;
@@ -211,16 +224,11 @@ TEST(ImuPreintegration, BridgedStepCovarianceMatchesMonteCarlo) {
   };
   ImuPreintegration clean(sensor::ImuBias(), noise);
   for (int k = 0; k < 41; ++k) step(&clean, k, readings[k].head<3>(), readings[k].tail<3>());
-  const Matrix9d info = clean.Covariance().inverse();
   std::mt19937_64 rng(12);
   std::normal_distribution<double> n01;
   const double sg = noise.gyro_noise_density / std::sqrt(0.005);
   const double sa = noise.accel_noise_density / std::sqrt(0.005);
-  const int trials = 2000;
-  Matrix9d scatter = Matrix9d::Zero();
-  double mahalanobis = 0.0;
-  for (int t = 0; t < trials; ++t) {
-    ImuPreintegration p(sensor::ImuBias(), noise);
+  const auto [scatter, mahalanobis] = MonteCarloAgainst(clean, 2000, [&](ImuPreintegration* p) {
     for (int k = 0; k < 41; ++k) {
       const Eigen::Vector3d ng(n01(rng), n01(rng), n01(rng)), na(n01(rng), n01(rng), n01(rng));
       Eigen::Vector3d eg = sg * ng, ea = sa * na;
@@ -230,14 +238,9 @@ TEST(ImuPreintegration, BridgedStepCovarianceMatchesMonteCarlo) {
         ea = ea * std::sqrt(0.005 / gap_dt) +
              accel_sigma.cwiseProduct(Eigen::Vector3d(n01(rng), n01(rng), n01(rng)));
       }
-      step(&p, k, readings[k].head<3>() + eg, readings[k].tail<3>() + ea);
+      step(p, k, readings[k].head<3>() + eg, readings[k].tail<3>() + ea);
     }
-    Eigen::Matrix<double, 9, 1> e;
-    e << LogSO3<double>(Eigen::Quaterniond(clean.DeltaR().transpose() * p.DeltaR())),
-        p.DeltaV() - clean.DeltaV(), p.DeltaP() - clean.DeltaP();
-    scatter += e * e.transpose() / trials;
-    mahalanobis += e.dot(info * e) / trials;
-  }
+  });
   EXPECT_NEAR(mahalanobis, 9.0, 0.6);
   for (int k = 0; k < 9; ++k) {
     EXPECT_NEAR(scatter(k, k) / clean.Covariance()(k, k), 1.0, 0.15) << "state " << k;
