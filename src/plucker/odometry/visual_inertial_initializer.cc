@@ -63,6 +63,12 @@ struct VisualInertialInitializer::Impl {
   std::vector<SE3d> T_vo;
   std::vector<int> keyframes;
 
+  // The preintegration of the window (gaps bridged as it bridges them: InertialOptions::imu_gap_s).
+  ImuPreintegration Preintegrate(const std::vector<sensor::ImuSample>& imu, double t0,
+                                 double t1) const {
+    return PreintegrateSamples(imu, t0, t1, sensor::ImuBias(), calib.imu,
+                               window::InertialOptions().imu_gap_s);
+  }
   bool StaticTest(const std::vector<window::FrameInput>& frames,
                   const std::vector<sensor::ImuSample>& imu,
                   const std::vector<inertial::ImageMotionFlag>& flags, bool end);
@@ -144,8 +150,7 @@ bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::Fram
 bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInput>& frames,
                                               const std::vector<sensor::ImuSample>& imu) {
   const double ti = frames[i].time, tj = frames[j].time;
-  const Eigen::Matrix3d R_bi_bj =
-      PreintegrateSamples(imu, ti, tj, sensor::ImuBias(), calib.imu).DeltaR();
+  const Eigen::Matrix3d R_bi_bj = Preintegrate(imu, ti, tj).DeltaR();
   const Eigen::Matrix3d R_b_c = calib.T_b_c.RotationMatrix();
   const Eigen::Matrix3d R_cj_ci = R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
   window::TwoViewOptions two_view;
@@ -182,9 +187,8 @@ bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::Fra
   const std::vector<SE3d> kf = run->KeyframePoses();
   for (const SE3d& T : kf) align.T_c0_ck.push_back(kf.front().Inverse() * T);
   for (std::size_t k = 0; k + 1 < keyframes.size(); ++k) {
-    align.preintegrations.push_back(PreintegrateSamples(imu, frames[keyframes[k]].time,
-                                                        frames[keyframes[k + 1]].time,
-                                                        sensor::ImuBias(), calib.imu));
+    align.preintegrations.push_back(
+        Preintegrate(imu, frames[keyframes[k]].time, frames[keyframes[k + 1]].time));
   }
   inertial::InitializationChoiceOptions choice_options;
   choice_options.min_keyframes = o.init_min_keyframes;

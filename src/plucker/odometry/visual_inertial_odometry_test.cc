@@ -1,6 +1,6 @@
 // The online visual-inertial odometry on simulated rooms: the dynamic start, the static start
 // (a still period spliced before the motion), a start the gyroscope check refuses, the restart
-// of the dynamic search, tracking lost and regained, and frame-by-frame feeding against the
+// of the dynamic search, tracking lost and regained, an IMU gap among the start's keyframes, and frame-by-frame feeding against the
 // IMU given all at once (nothing of the future is used).
 #include "plucker/odometry/visual_inertial_odometry.h"
 
@@ -317,6 +317,33 @@ TEST(VisualInertialOdometry, RejectsInvalidOptionsAndInputs) {
   vio.AddFrame(in.frames[1]);
   EXPECT_THROW(vio.AddFrame(in.frames[0]), std::invalid_argument);
   EXPECT_THROW(vio.AddImage(10.0, cv::Mat()), std::invalid_argument);
+}
+
+double AlignmentScale(const VioRun& run) {
+  for (const VioInitEvent& e : run.init.events)
+    if (e.event == "alignment") return e.scale;
+  return 0.0;
+}
+
+// An IMU gap of 0.4 s among the dynamic start's keyframes is bridged in the alignment as in the
+// window (InertialOptions::imu_gap_s): its preintegration is not believed as if measured. Read
+// as measured (the interpolated readings' covariance), the same gap gave a scale 15 % short
+// (0.2905 against 0.3437) and an ATE of 0.116 m against 0.044 m; bridged 1 % and 0.061 m.
+TEST(VisualInertialOdometry, DynamicStartBridgesAnImuGap) {
+  const Input in = Simulate(60);
+  Input gapped = in;
+  const double t0 = in.frames[12].time + 0.013;
+  gapped.imu.clear();
+  for (const sensor::ImuSample& s : in.imu)
+    if (s.t < t0 || s.t > t0 + 0.4) gapped.imu.push_back(s);
+  const VioRun whole = Feed(in, FastOptions()), with_gap = Feed(gapped, FastOptions());
+  ASSERT_TRUE(whole.init.done);
+  ASSERT_TRUE(with_gap.init.done);
+  ASSERT_EQ(with_gap.init.method, "dynamic");
+  ASSERT_LT(with_gap.init.first, 12);  // the gap is among the alignment's keyframes
+  ASSERT_GT(with_gap.init.second, 16);
+  EXPECT_NEAR(AlignmentScale(with_gap) / AlignmentScale(whole), 1.0, 0.03);
+  EXPECT_LT(AtePositionYaw(with_gap, in), 0.08);
 }
 
 }  // namespace
