@@ -1,7 +1,7 @@
 // The online visual-inertial odometry on simulated rooms: the dynamic start, the static start
 // (a still period spliced before the motion), a start the gyroscope check refuses, the restart
-// of the dynamic search, tracking lost and regained, an IMU gap among the start's keyframes, and frame-by-frame feeding against the
-// IMU given all at once (nothing of the future is used).
+// of the dynamic search, tracking lost and regained, an IMU gap among the start's keyframes, and
+// frame-by-frame feeding against the IMU given all at once (nothing of the future is used).
 #include "plucker/odometry/visual_inertial_odometry.h"
 
 #include <gtest/gtest.h>
