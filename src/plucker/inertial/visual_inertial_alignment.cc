@@ -46,8 +46,8 @@ void Validate(const AlignmentInput& in, const AlignmentOptions& o) {
     throw std::invalid_argument("AlignVisualInertial: the extrinsic T_b_c is not finite");
   }
   if (!(o.gravity_magnitude > 0 && o.max_gravity_deviation > 0 && o.max_scale_relative_sigma > 0 &&
-        o.visual_position_sigma >= 0 && o.gyro_bias_iterations >= 1 && o.gravity_iterations >= 1 &&
-        o.min_keyframes >= 3)) {
+        o.visual_position_sigma >= 0 && o.max_whitened_rms > 0 && o.gyro_bias_iterations >= 1 &&
+        o.gravity_iterations >= 1 && o.min_keyframes >= 3)) {
     throw std::invalid_argument("AlignVisualInertial: invalid options");
   }
 }
@@ -140,6 +140,8 @@ const char* ToString(AlignmentStatus status) {
       return "non-positive scale";
     case AlignmentStatus::kGravityMagnitude:
       return "gravity magnitude";
+    case AlignmentStatus::kInconsistent:
+      return "inconsistent";
   }
   return "unknown";
 }
@@ -257,6 +259,14 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
     r.status = AlignmentStatus::kNonPositiveScale;
     r.message =
         Format("scale %.4g after the gravity refinement (sigma %.3g)", r.scale, r.scale_sigma);
+    return r;
+  }
+  if (!(r.whitened_rms <= o.max_whitened_rms)) {
+    r.status = AlignmentStatus::kInconsistent;
+    r.message = Format(
+        "the whitened residuals' rms is %.3g, at most %.3g allowed: the visual "
+        "poses and the IMU disagree",
+        r.whitened_rms, o.max_whitened_rms);
     return r;
   }
   if (!(r.scale_sigma <= o.max_scale_relative_sigma * r.scale)) {

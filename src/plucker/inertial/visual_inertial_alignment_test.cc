@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "plucker/inertial/gravity.h"
@@ -241,6 +242,34 @@ TEST(VisualInertialAlignment, AGravityFarFromItsMagnitudeIsRejected) {
   EXPECT_NEAR(r.gravity_norm_unrefined, 12.5, 0.05);
 }
 
+// Up-to-scale poses whose scale doubles over the keyframes (a vision-only run that lost its
+// scale), keyframes 0.85 s apart as in a slow corridor start: not a trajectory the IMU measured.
+// The whitened residuals say so (7.7 against 0.3-1.6 for real starts), where the scale's sigma
+// alone would let it pass, an accelerometer bias and the velocities absorbing what they can.
+TEST(VisualInertialAlignment, AScaleDriftingReconstructionIsInconsistent) {
+  ScenarioOptions so;
+  so.noisy = true;
+  so.keyframe_period = 0.85;
+  Scenario s = MakeScenario(sim::ExcitingTestTrajectory(10.0), so);
+  const AlignmentResult good = AlignVisualInertial(s.input);
+  ASSERT_TRUE(good.success()) << good.message;
+  EXPECT_LT(good.whitened_rms, 2.0);
+  const int n = static_cast<int>(s.input.T_c0_ck.size());
+  for (int k = 0; k < n; ++k) {
+    SE3d& T = s.input.T_c0_ck[k];
+    T = SE3d(T.rotation(), (1.0 + k / (n - 1.0)) * T.translation());
+  }
+  const AlignmentResult r = AlignVisualInertial(s.input);
+  EXPECT_EQ(r.status, AlignmentStatus::kInconsistent) << r.message;
+  EXPECT_GT(r.whitened_rms, 5.0);
+  EXPECT_NE(r.message.find("disagree"), std::string::npos) << r.message;
+  AlignmentOptions unchecked;
+  unchecked.max_whitened_rms = std::numeric_limits<double>::infinity();
+  const AlignmentResult passed = AlignVisualInertial(s.input, unchecked);
+  EXPECT_NE(passed.status, AlignmentStatus::kInconsistent);
+  EXPECT_DOUBLE_EQ(passed.whitened_rms, r.whitened_rms);
+}
+
 TEST(VisualInertialAlignment, GyroBiasFromRotationsAlone) {
   const Scenario s = MakeScenario(sim::ExcitingTestTrajectory(10.0), {});
   // One linearisation at zero: first order in the bias (0.027 rad/s), good to ~1e-4.
@@ -272,6 +301,9 @@ TEST(VisualInertialAlignment, BadInput) {
   }
   EXPECT_THROW(EstimateGyroBias(mismatch.T_c0_ck, mismatch.T_b_c, mismatch.preintegrations),
                std::invalid_argument);
+  AlignmentOptions no_rms;
+  no_rms.max_whitened_rms = 0.0;  // infinity turns the check off; 0 or NaN is an error
+  EXPECT_THROW(AlignVisualInertial(s.input, no_rms), std::invalid_argument);
 }
 
 TEST(InitializationChoice, StaticFirstThenDynamicOnceExcited) {

@@ -79,8 +79,10 @@ struct VisualInertialInitializer::Impl {
                const std::vector<sensor::ImuSample>& imu, bool end);
   bool TryPair(const std::vector<window::FrameInput>& frames,
                const std::vector<sensor::ImuSample>& imu);
+  // false: no start yet; *hopeless: the run's poses disagree with the IMU (more keyframes of
+  // the same run will not mend them: restart).
   bool TryAlignment(const std::vector<window::FrameInput>& frames,
-                    const std::vector<sensor::ImuSample>& imu);
+                    const std::vector<sensor::ImuSample>& imu, bool* hopeless);
   void Restart();
 };
 
@@ -180,7 +182,8 @@ bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInp
 
 // At a new keyframe of the run: the choice, then the alignment.
 bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::FrameInput>& frames,
-                                                   const std::vector<sensor::ImuSample>& imu) {
+                                                   const std::vector<sensor::ImuSample>& imu,
+                                                   bool* hopeless) {
   inertial::AlignmentInput align;
   align.T_b_c = calib.T_b_c;
   align.t0 = frames[keyframes.front()].time;
@@ -215,6 +218,7 @@ bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::Fra
   e.message = a.message;
   e.scale = a.scale;
   events.push_back(e);
+  *hopeless = a.status == inertial::AlignmentStatus::kInconsistent;
   if (!a.success()) return false;
   start.method = "dynamic";
   start.first = keyframes.front();
@@ -281,10 +285,16 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
     T_vo[f] = r.T_w_c;
     if (r.keyframe) {
       keyframes.push_back(f);
-      if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes && TryAlignment(frames, imu)) {
+      bool hopeless = false;
+      if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
+          TryAlignment(frames, imu, &hopeless)) {
         phase = Phase::kDone;
         run.reset();
         return true;
+      }
+      if (hopeless) {
+        Restart();
+        continue;
       }
     }
     ++f;
