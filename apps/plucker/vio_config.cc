@@ -108,6 +108,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("init.max_keyframes", "keyframes",
           "dynamic start: the most it waits for (>= init.min_keyframes)", AtLeast(4),
           PLUCKER_OPTION_MEMBER(odometry.init_max_keyframes));
+  t.Value("init.extend_keyframes", "keyframes",
+          "dynamic start: after the first alignment, this many keyframes more, aligned again "
+          "(0: off)",
+          AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_extend_keyframes));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

@@ -68,8 +68,13 @@ struct VisualInertialOdometryOptions {
   // Per-frame tracking fuses the IMU prediction (window::InertialOptions, m/s; 0: vision only).
   double tracking_velocity_sigma = 0.02;
 
-  int init_min_keyframes = 10;        // dynamic initialisation: keyframes before the alignment
-  int init_max_keyframes = 30;        // ... and the most it waits for
+  int init_min_keyframes = 10;  // dynamic initialisation: keyframes before the alignment
+  int init_max_keyframes = 30;  // ... and the most it waits for
+  // After the first successful alignment, the vision-only run goes on for this many keyframes
+  // more (at most init_max_keyframes) and is aligned again, so that the start (and its bundle
+  // adjustment, init_ba_iterations) sees more of the motion; the first alignment is kept when
+  // the run ends or the second fails. 0: off, the default (docs/results/vio.md, MH_05).
+  int init_extend_keyframes = 0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "plucker/odometry/vio_test_utils.h"
@@ -113,6 +114,27 @@ TEST(StartBundleAdjustment, KeepsGivenBiases) {
   EXPECT_LT((start.state_first.bias.accel - *o.init_accel_bias).norm(), 5e-3);
   EXPECT_LT((start.state_first.bias.gyro - *o.init_gyro_bias).norm(), 5e-4);
   EXPECT_LT((start.state_second.bias.gyro - *o.init_gyro_bias).norm(), 1e-3);
+}
+
+// init_extend_keyframes: the start is aligned again after that many keyframes more (at most
+// init_max_keyframes), on the same run: the same first keyframe, a later second.
+TEST(StartBundleAdjustment, ExtendedStartHasMoreKeyframes) {
+  const Input in = Simulate(120);
+  VisualInertialOdometryOptions o;
+  o.use_lines = false;
+  std::vector<window::FrameInput> frames;
+  VioStart first, extended;
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &first));
+  ASSERT_EQ(first.method, "dynamic");
+  o.init_extend_keyframes = 5;
+  frames.clear();
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &extended));
+  ASSERT_EQ(extended.method, "dynamic");
+  EXPECT_EQ(extended.candidates.front(), first.candidates.front());
+  const std::size_t most = static_cast<std::size_t>(o.init_max_keyframes);
+  EXPECT_EQ(extended.candidates.size(), std::min(first.candidates.size() + 5, most - 1));
+  EXPECT_GT(extended.second, first.second);
+  EXPECT_EQ(extended.T_w_b.size(), static_cast<std::size_t>(extended.second) + 1);
 }
 
 TEST(StartBundleAdjustment, LeavesTooShortAStartAsItWas) {
