@@ -591,6 +591,9 @@ expect vio-estimate-extrinsic-json 0 '"rotation_change_deg"' -- cat "$T/vio_ext.
 printf 'extrinsic:\n  T_b_c: [0, 0, 0, 0, 0, 0]\n' > "$T/vio_tbc_bad.yaml"
 expect vio-bad-extrinsic nonzero "vio_tbc_bad.yaml: key 'extrinsic.T_b_c': expected 7 finite numbers" -- \
   "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_tbc_bad.yaml"
+printf 'init:\n  accel_bias: [0.1, 0.2]\n' > "$T/vio_ba_bad.yaml"
+expect vio-bad-accel-bias nonzero "vio_ba_bad.yaml: key 'init.accel_bias': expected 3 finite numbers" -- \
+  "$PLUCKER" vio --features "$T/vcam" --out "$T/vio_x.tum" --config "$T/vio_ba_bad.yaml"
 expect vio-no-source nonzero "give --features DIR, --euroc DIR or --bag FILE" -- "$PLUCKER" vio --out "$T/x.tum"
 expect vio-no-folder nonzero "plucker vio: error: .*nothing" -- \
   "$PLUCKER" vio --features "$T/nothing" --out "$T/vio_x.tum"

@@ -38,7 +38,8 @@ std::string OtherValue(const OptionRow<Config>& o, const std::string& text) {
   } else if (o.type == "bool") {
     candidates.push_back(text == "true" ? "false" : "true");
   } else if (o.type == "list") {
-    candidates.push_back("[0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]");
+    candidates.push_back("[0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]");  // a pose
+    candidates.push_back("[0.1, -0.2, 0.3]");                     // a 3-vector
   } else {
     std::stringstream s(o.type);
     for (std::string c; s >> c;)

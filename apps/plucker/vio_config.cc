@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "vo_config.h"
@@ -46,6 +47,35 @@ OptionRow<VioConfig> ExtrinsicRow() {
   return o;
 }
 
+// A 3-vector option of VisualInertialOdometryOptions ([x, y, z]), or empty (off).
+using OptionalVector = std::optional<Eigen::Vector3d> odometry::VisualInertialOdometryOptions::*;
+OptionRow<VioConfig> BiasRow(const char* key, const char* unit, const char* doc,
+                             OptionalVector member) {
+  OptionRow<VioConfig> o{key, "list", unit, doc, "3 finite numbers, or []", nullptr, nullptr};
+  o.get = [member](const VioConfig& c) {
+    const std::optional<Eigen::Vector3d>& v = c.odometry.*member;
+    std::string s = "[";
+    for (int i = 0; v && i < 3; ++i) s += (i ? ", " : "") + options_internal::FormatNumber((*v)[i]);
+    return s + "]";
+  };
+  o.set = [member](const YAML::Node& n, VioConfig* c) {
+    std::vector<double> e;
+    try {
+      if (!n.IsSequence()) throw std::invalid_argument("");
+      e = n.as<std::vector<double>>();
+    } catch (const std::exception&) {
+      throw std::invalid_argument("expected a list of 3 numbers [x, y, z]");
+    }
+    const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
+    if (!e.empty() && (e.size() != 3 || !finite))
+      throw std::invalid_argument("expected 3 finite numbers [x, y, z] or []");
+    std::optional<Eigen::Vector3d>& v = c->odometry.*member;
+    v.reset();
+    if (!e.empty()) v = Eigen::Vector3d(e[0], e[1], e[2]);
+  };
+  return o;
+}
+
 std::vector<OptionRow<VioConfig>> MakeRows() {
   OptionRows<VioConfig> t;
   t.Bool("use_lines", kUseLinesDoc, PLUCKER_OPTION_MEMBER(odometry.use_lines));
@@ -78,6 +108,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("init.max_keyframes", "keyframes",
           "dynamic start: the most it waits for (>= init.min_keyframes)", AtLeast(4),
           PLUCKER_OPTION_MEMBER(odometry.init_max_keyframes));
+  t.Value("init.extend_keyframes", "keyframes",
+          "dynamic start: after the first alignment, this many keyframes more, aligned again "
+          "(0: off)",
+          AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_extend_keyframes));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",
@@ -99,6 +133,14 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.init_ba_accel_bias_prior_sigma));
   t.Value("init.ba_velocity_prior_sigma", "m/s", "its prior on the first keyframe's velocity",
           Above(0.0), PLUCKER_OPTION_MEMBER(odometry.init_ba_velocity_prior_sigma));
+  t.Custom(BiasRow("init.accel_bias", "m/s^2",
+                   "dynamic start: its bundle adjustment starts from (and centres its prior on) "
+                   "this accel bias, [bx, by, bz] ([]: off; a diagnostic or an earlier run's)",
+                   &odometry::VisualInertialOdometryOptions::init_accel_bias));
+  t.Custom(BiasRow("init.gyro_bias", "rad/s",
+                   "dynamic start: its bundle adjustment holds this gyro bias, [bx, by, bz] "
+                   "([]: off; a diagnostic or an earlier run's)",
+                   &odometry::VisualInertialOdometryOptions::init_gyro_bias));
   t.Value(SharedVisualOption("points.max_tracks"),
           PLUCKER_OPTION_MEMBER(odometry.max_point_tracks));
   t.Value(SharedVisualOption("points.min_distance_px"),

@@ -62,6 +62,10 @@ struct VisualInertialInitializer::Impl {
   std::unique_ptr<window::SlidingWindowEstimator> run;
   std::vector<SE3d> T_vo;
   std::vector<int> keyframes;
+  // init_extend_keyframes: the first successful alignment, kept while the run goes on to
+  // extend_until keyframes; the start falls back to it when the run ends or a later one fails.
+  std::optional<VioStart> aligned;
+  int extend_until = 0;
 
   // The preintegration of the window (gaps bridged as it bridges them: InertialOptions::imu_gap_s).
   ImuPreintegration Preintegrate(const std::vector<sensor::ImuSample>& imu, double t0,
@@ -69,6 +73,9 @@ struct VisualInertialInitializer::Impl {
     return PreintegrateSamples(imu, t0, t1, sensor::ImuBias(), calib.imu,
                                window::InertialOptions().imu_gap_s);
   }
+  bool Extended(const std::vector<window::FrameInput>& frames,
+                const std::vector<sensor::ImuSample>& imu);
+  bool Finish();
   bool StaticTest(const std::vector<window::FrameInput>& frames,
                   const std::vector<sensor::ImuSample>& imu,
                   const std::vector<inertial::ImageMotionFlag>& flags, bool end);
@@ -237,6 +244,22 @@ bool VisualInertialInitializer::Impl::TryAlignment(const std::vector<window::Fra
   return true;
 }
 
+// The start is decided (start holds it).
+bool VisualInertialInitializer::Impl::Finish() {
+  phase = Phase::kDone;
+  run.reset();
+  return true;
+}
+
+// The extended run's alignment; the first one when it fails.
+bool VisualInertialInitializer::Impl::Extended(const std::vector<window::FrameInput>& frames,
+                                               const std::vector<sensor::ImuSample>& imu) {
+  start = VioStart();
+  bool hopeless = false;  // the first alignment stands either way
+  if (!TryAlignment(frames, imu, &hopeless)) start = *aligned;
+  return Finish();
+}
+
 // The run from (i, j) gave no alignment: a later start frame.
 void VisualInertialInitializer::Impl::Restart() {
   VioInitEvent e;
@@ -273,11 +296,13 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
     const bool running = static_cast<int>(keyframes.size()) <= o.init_max_keyframes;
     if (running && f >= n && !end) return false;  // wait for frame f
     if (!running || f >= n || !Covered(imu, frames[f].time)) {
+      if (aligned) return Finish();
       Restart();
       continue;
     }
     const window::WindowFrameResult r = run->AddFrame(frames[f]);
     if (!r.ok) {
+      if (aligned) return Finish();
       Restart();
       continue;
     }
@@ -286,11 +311,14 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
     if (r.keyframe) {
       keyframes.push_back(f);
       bool hopeless = false;
-      if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
-          TryAlignment(frames, imu, &hopeless)) {
-        phase = Phase::kDone;
-        run.reset();
-        return true;
+      if (aligned) {
+        if (static_cast<int>(keyframes.size()) >= extend_until) return Extended(frames, imu);
+      } else if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
+                 TryAlignment(frames, imu, &hopeless)) {
+        if (o.init_extend_keyframes == 0) return Finish();
+        aligned = start;
+        extend_until = std::min(static_cast<int>(keyframes.size()) + o.init_extend_keyframes,
+                                o.init_max_keyframes);
       }
       if (hopeless) {
         Restart();

@@ -68,8 +68,13 @@ struct VisualInertialOdometryOptions {
   // Per-frame tracking fuses the IMU prediction (window::InertialOptions, m/s; 0: vision only).
   double tracking_velocity_sigma = 0.02;
 
-  int init_min_keyframes = 10;        // dynamic initialisation: keyframes before the alignment
-  int init_max_keyframes = 30;        // ... and the most it waits for
+  int init_min_keyframes = 10;  // dynamic initialisation: keyframes before the alignment
+  int init_max_keyframes = 30;  // ... and the most it waits for
+  // After the first successful alignment, the vision-only run goes on for this many keyframes
+  // more (at most init_max_keyframes) and is aligned again, so that the start (and its bundle
+  // adjustment, init_ba_iterations) sees more of the motion; the first alignment is kept when
+  // the run ends or the second fails. 0: off, the default (docs/results/vio.md, MH_05).
+  int init_extend_keyframes = 0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
@@ -82,6 +87,14 @@ struct VisualInertialOdometryOptions {
   int init_ba_iterations = 0;
   double init_ba_accel_bias_prior_sigma = 0.5;
   double init_ba_velocity_prior_sigma = 0.5;
+  // Given biases for the start's bundle adjustment (empty: off, the default; only with
+  // init_ba_iterations > 0 and a dynamic start): every keyframe of the solve starts from them,
+  // the first keyframe's prior is centred on them (accel: init_ba_accel_bias_prior_sigma; gyro:
+  // held, 1e-4 rad/s), and the window's first prior on the solve's result (accel_bias_prior_sigma).
+  // A diagnostic with a ground truth's biases, or the biases of an earlier run over the same data
+  // (scripts/vio_two_pass.sh; docs/results/vio.md, MH_05).
+  std::optional<Eigen::Vector3d> init_accel_bias;  // m/s^2, body
+  std::optional<Eigen::Vector3d> init_gyro_bias;   // rad/s, body
   // A frame whose median point displacement against the previous frame exceeds this moves
   // (vetoes the static initialisation over its IMU block; else the window's zero-motion update).
   double image_still_px = 3.0;

@@ -8,6 +8,9 @@ namespace plucker {
 namespace odometry {
 namespace {
 
+// The gyro bias prior of the solve when init_gyro_bias is given (rad/s): held.
+constexpr double kHeldGyroBiasSigma = 1e-4;
+
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
@@ -27,6 +30,10 @@ StartAdjustmentSummary AdjustDynamicStart(const VisualInertialOdometryOptions& o
   states.push_back(start->state_second);
   result.keyframes = static_cast<int>(kf.size());
   if (kf.size() < 3 || states.size() != kf.size()) return result;
+  for (sensor::BodyState& s : states) {  // the diagnostic biases (docs/results/vio.md)
+    if (o.init_accel_bias) s.bias.accel = *o.init_accel_bias;
+    if (o.init_gyro_bias) s.bias.gyro = *o.init_gyro_bias;
+  }
   std::vector<window::FrameInput> kf_frames;
   for (int k : kf) kf_frames.push_back(frames[k]);
 
@@ -36,6 +43,7 @@ StartAdjustmentSummary AdjustDynamicStart(const VisualInertialOdometryOptions& o
   wo.inertial->free_first_tilt = true;
   wo.inertial->accel_bias_prior_sigma = o.init_ba_accel_bias_prior_sigma;
   wo.inertial->velocity_prior_sigma = o.init_ba_velocity_prior_sigma;
+  if (o.init_gyro_bias) wo.inertial->gyro_bias_prior_sigma = kHeldGyroBiasSigma;
   wo.inertial->estimate_extrinsic = false;
   wo.inertial->estimate_time_offset = false;
   window::SlidingWindowEstimator ba(calib.camera.K, wo);

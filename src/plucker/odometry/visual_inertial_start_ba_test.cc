@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "plucker/odometry/vio_test_utils.h"
@@ -39,25 +40,32 @@ sensor::BodyState Tilted(const sensor::BodyState& s, const SE3d& T_tilt) {
   return t;
 }
 
+// The initialisation run on the frames until it decides; frames: those given to it.
+bool RunInitializer(const VisualInertialOdometryOptions& o, const Input& in,
+                    std::vector<window::FrameInput>* frames, VioStart* start) {
+  VisualInertialInitializer init(o, in.calib);
+  std::vector<inertial::ImageMotionFlag> flags;
+  bool done = false;
+  for (std::size_t i = 0; i < in.frames.size() && !done; ++i) {
+    frames->push_back(in.frames[i]);
+    if (i > 0) {
+      const auto flag = ImageMotion((*frames)[i - 1], (*frames)[i], o.image_still_px);
+      if (flag) flags.push_back(*flag);
+    }
+    done = init.Advance(*frames, in.imu, flags, i + 1 == in.frames.size());
+  }
+  if (done) *start = init.start();
+  return done;
+}
+
 TEST(StartBundleAdjustment, RemovesAGravityTiltOfTheAlignment) {
   const Input in = Simulate(80);
   VisualInertialOdometryOptions o;
   o.use_lines = false;
   o.init_ba_iterations = 20;
-  VisualInertialInitializer init(o, in.calib);
   std::vector<window::FrameInput> frames;
-  std::vector<inertial::ImageMotionFlag> flags;
-  bool done = false;
-  for (std::size_t i = 0; i < in.frames.size() && !done; ++i) {
-    frames.push_back(in.frames[i]);
-    if (i > 0) {
-      const auto flag = ImageMotion(frames[i - 1], frames[i], o.image_still_px);
-      if (flag) flags.push_back(*flag);
-    }
-    done = init.Advance(frames, in.imu, flags, i + 1 == in.frames.size());
-  }
-  ASSERT_TRUE(done);
-  VioStart start = init.start();
+  VioStart start;
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &start));
   ASSERT_EQ(start.method, "dynamic");
   ASSERT_GE(start.candidates.size(), 5u);
   // The whole start rotated 3 deg about the world x axis (its positions and velocities too).
@@ -85,6 +93,48 @@ TEST(StartBundleAdjustment, RemovesAGravityTiltOfTheAlignment) {
   // The poses written for the frames up to the start moved with it.
   ASSERT_TRUE(start.T_w_b[start.second]);
   EXPECT_LT(TiltDeg(*start.T_w_b[start.second], in.gt_T_w_b[start.second]), 1.0);
+}
+
+// init_accel_bias / init_gyro_bias: the solve starts from the given biases and keeps them (the
+// gyro bias held, the accel bias with a tight prior).
+TEST(StartBundleAdjustment, KeepsGivenBiases) {
+  const Input in = Simulate(80);
+  VisualInertialOdometryOptions o;
+  o.use_lines = false;
+  o.init_ba_iterations = 10;
+  o.init_ba_accel_bias_prior_sigma = 1e-3;
+  o.init_accel_bias = Eigen::Vector3d(0.02, -0.01, 0.015);
+  o.init_gyro_bias = Eigen::Vector3d(1e-3, -2e-3, 5e-4);
+  std::vector<window::FrameInput> frames;
+  VioStart start;
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &start));
+  ASSERT_EQ(start.method, "dynamic");
+  const StartAdjustmentSummary r = AdjustDynamicStart(o, in.calib, frames, in.imu, &start);
+  ASSERT_TRUE(r.ok);
+  EXPECT_LT((start.state_first.bias.accel - *o.init_accel_bias).norm(), 5e-3);
+  EXPECT_LT((start.state_first.bias.gyro - *o.init_gyro_bias).norm(), 5e-4);
+  EXPECT_LT((start.state_second.bias.gyro - *o.init_gyro_bias).norm(), 1e-3);
+}
+
+// init_extend_keyframes: the start is aligned again after that many keyframes more (at most
+// init_max_keyframes), on the same run: the same first keyframe, a later second.
+TEST(StartBundleAdjustment, ExtendedStartHasMoreKeyframes) {
+  const Input in = Simulate(120);
+  VisualInertialOdometryOptions o;
+  o.use_lines = false;
+  std::vector<window::FrameInput> frames;
+  VioStart first, extended;
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &first));
+  ASSERT_EQ(first.method, "dynamic");
+  o.init_extend_keyframes = 5;
+  frames.clear();
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &extended));
+  ASSERT_EQ(extended.method, "dynamic");
+  EXPECT_EQ(extended.candidates.front(), first.candidates.front());
+  const std::size_t most = static_cast<std::size_t>(o.init_max_keyframes);
+  EXPECT_EQ(extended.candidates.size(), std::min(first.candidates.size() + 5, most - 1));
+  EXPECT_GT(extended.second, first.second);
+  EXPECT_EQ(extended.T_w_b.size(), static_cast<std::size_t>(extended.second) + 1);
 }
 
 TEST(StartBundleAdjustment, LeavesTooShortAStartAsItWas) {
