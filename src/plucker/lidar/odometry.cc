@@ -350,11 +350,15 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
     Notify(observer, Stage::kDone);
     return SkipFrame(error, scan.timestamp);
   }
+  // The first sweep of a generic sensor seeds the map deskewed with its searched motion, not raw
+  // (registered raw, the next sweep's differently smeared slabs bias it: sweep_motion.h).
+  const bool seed_deskewed = x.sweep && poses_.empty();
+  if (seed_deskewed) DeskewScanPoints(x.T_sweep, options_.features.scan_period, &features);
   FrameResult result;
   result.features = features.stats;
-  RegisterToMap(T_w_s_pred, deskew, observer, &features, &result);
+  RegisterToMap(T_w_s_pred, deskew && !seed_deskewed, observer, &features, &result);
   Notify(observer, Stage::kMapUpdate);
-  UpdateMap(deskew, &features, &result);
+  UpdateMap(deskew && !seed_deskewed, &features, &result);
   Notify(observer, Stage::kDone);
   return result;
 }
