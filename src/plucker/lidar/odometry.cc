@@ -127,8 +127,6 @@ DegeneracyCriterion CriterionFor(const LidarOdometryOptions& o) {
 
 void Notify(const StageObserver& observer, Stage stage) { observer ? observer(stage) : void(); }
 
-// The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
-// deskewing).
 // The extractor of a scan: LOAM's per ring, or (sensor generic) local geometry, with per-point
 // time after a deskew with the sweep motion T_sweep (sweep_motion.h).
 struct Extractors {
@@ -138,6 +136,8 @@ struct Extractors {
   SE3d T_sweep;
 };
 
+// The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
+// deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
                          bool all, const Extractors& x, ScanFeatures* features,
                          std::string* error) {
@@ -350,8 +350,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
     Notify(observer, Stage::kDone);
     return SkipFrame(error, scan.timestamp);
   }
-  // The first sweep of a generic sensor seeds the map deskewed with its searched motion, not raw
-  // (registered raw, the next sweep's differently smeared slabs bias it: sweep_motion.h).
+  // A generic first sweep seeds the map deskewed with its searched motion (sweep_motion.h).
   const bool seed_deskewed = x.sweep && poses_.empty();
   if (seed_deskewed) DeskewScanPoints(x.T_sweep, options_.features.scan_period, &features);
   FrameResult result;
