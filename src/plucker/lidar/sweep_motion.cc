@@ -49,8 +49,11 @@ SE3d SweepFeatureExtractor::SearchForwardMotion(const LidarScan& scan,
   // one around the best.
   const double max_yaw = search.max_yaw_deg * M_PI / 180.0;
   const double yaw_step = search.yaw_step_deg * M_PI / 180.0;
-  const int yaw_steps = static_cast<int>(std::round(max_yaw / yaw_step));
-  const int x_steps = static_cast<int>(std::round(search.max_forward / search.coarse_step));
+  // Grid sizes (a step <= 0 gives a single value: 0).
+  const int yaw_steps = yaw_step > 0.0 ? static_cast<int>(std::round(max_yaw / yaw_step)) : 0;
+  const int x_steps = search.coarse_step > 0.0
+                          ? static_cast<int>(std::round(search.max_forward / search.coarse_step))
+                          : 0;
   for (double scale : {1.0, 0.25}) {
     const double x0 = best_x, yaw0 = scale == 1.0 ? 0.0 : best_yaw;
     const int ky = scale == 1.0 ? yaw_steps : 4;
