@@ -308,6 +308,7 @@ FrameResult LidarOdometry::SkipFrame(const std::string& reason, double stamp) {
   result.T_w_s = options_.restart_from_stamps
                      ? PredictPoseAt(poses_, stamps_, stamp, options_.constant_velocity, &steps)
                      : PredictPose(poses_, options_.constant_velocity);
+  PredictAfterWideStart(stamp, &result.T_w_s);
   poses_.push_back(result.T_w_s);
   stamps_.push_back(stamp);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
@@ -335,6 +336,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   SE3d T_w_s_pred = options_.restart_from_stamps ? PredictPoseAt(poses_, stamps_, scan.timestamp,
                                                                  options_.constant_velocity, &steps)
                                                  : PredictPose(poses_, options_.constant_velocity);
+  PredictAfterWideStart(scan.timestamp, &T_w_s_pred);
   if (steps > 1) impl_->registered_streak = 0;
   impl_->stamp = scan.timestamp;
   Extractors x{&impl_->feature_extractor};

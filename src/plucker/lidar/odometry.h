@@ -156,6 +156,7 @@ class LidarOdometry {
   SE3d RegisterWideStart(double periods, const StageObserver& observer, ScanFeatures* features,
                          FrameResult* result);
   double PeriodsSinceSeed() const;
+  bool PredictAfterWideStart(double stamp, SE3d* T_w_s_pred);
   bool RunRounds(const LidarOdometryOptions& o, const VoxelMap& edge_map, const VoxelMap& plane_map,
                  const SE3d& T_w_s_anchor, bool deskew_first_round, const StageObserver& observer,
                  ScanFeatures* features, FrameResult* result);
@@ -167,6 +168,9 @@ class LidarOdometry {
   VoxelMap edge_map_, plane_map_;
   std::vector<SE3d> poses_;     // one per processed or skipped frame
   std::vector<double> stamps_;  // their times (s; LidarScan::timestamp, 0 when unknown)
+  // The last pose came from the wide start over this many periods (0: not) from T_w_s_wide_from_.
+  double wide_start_periods_ = 0.0;
+  SE3d T_w_s_wide_from_;
   std::unique_ptr<Impl> impl_;
 };
 
