@@ -87,8 +87,10 @@ struct LidarOdometryOptions {
   // A gap right after the first scan (skipped or absent scans before any motion is known): the
   // start path runs from forward offsets along the sensor's x axis (a vehicle-mounted sensor)
   // every start_distance / 2 up to start_max_speed times the time since the first scan (the
-  // scan times, else scan_period per frame slot), and keeps the one whose normal registration
-  // matches the most points (odometry_start.cc). 0: off (the start path from the first pose).
+  // scan times, else scan_period per frame slot), and keeps the best by its normal registration
+  // (matches, cost per match, information along its weakest translation: odometry_start.cc);
+  // the next scan is predicted with the gap's motion per period. 0: off (the start path from
+  // the first pose).
   double start_max_speed = 35.0;  // m/s
   // Restart after a gap (scans missing without a skipped frame, seen from the scan timestamps):
   // when a scan comes more than 1.5 scan intervals after the last one, the constant-velocity

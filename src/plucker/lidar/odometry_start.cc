@@ -11,7 +11,8 @@ namespace lidar {
 
 // The start path (RegisterStart) from forward offsets of the prediction (result->T_w_s) every
 // start_distance / 2 up to start_max_speed * periods * scan_period; each candidate is scored by
-// the normal registration from its start pose (below); the best start pose is returned with its
+// the normal registration from its start pose (below: matches, cost per match, then the
+// information along the weakest translation); the best start pose is returned with its
 // start statistics in *result. The start stages alone reach ~3-4 m (docs/results/
 // lidar-start.md); a gap of n scans at speed v needs (n + 1) v / rate.
 SE3d LidarOdometry::RegisterWideStart(double periods, const StageObserver& observer,
