@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "plucker/geometry/se3.h"
 #include "plucker/lidar/features.h"
 #include "plucker/sensor/lidar_scan.h"
 
@@ -32,13 +33,17 @@ struct GeometricFeatureOptions {
 // `ring_options.compute_times` and a time channel, the times. Range gating (min_range,
 // max_range) and the voxel sizes of `edges` / `planes` come from `ring_options` (FeatureOptions).
 // Returns false with *error set for an unusable scan (mismatched channel sizes, fewer than
-// `neighbours` valid points).
+// `neighbours` valid points). With `plane_information`, also the information of the plane points
+// as point-to-plane rows at the identity pose, sum of J^T J with J = [(p x n)^T, n^T] (tangent
+// (dtheta, dt) as in degeneracy.h; n the fitted normal), over the plane points before their
+// downsampling to plane_voxel_size: how well the planes of this cloud constrain each direction.
 class GeometricFeatureExtractor {
  public:
   GeometricFeatureExtractor();
   ~GeometricFeatureExtractor();
   bool Extract(const LidarScan& scan, const FeatureOptions& ring_options,
-               const GeometricFeatureOptions& options, ScanFeatures* features, std::string* error);
+               const GeometricFeatureOptions& options, ScanFeatures* features, std::string* error,
+               Matrix6d* plane_information = nullptr);
 
  private:
   struct Buffers;

@@ -50,6 +50,34 @@ TEST(GeometricFeatures, PlanesOnTheGroundEdgesOnThePole) {
   EXPECT_GT(f.stats.valid_points, 0.99 * static_cast<double>(scan.size()));  // a few < 2 m
 }
 
+// The plane information (the sweep-motion search's score, sweep_motion.h): a ground plane and a
+// wall across x constrain z and x, nothing constrains y; the features are the same with it.
+TEST(GeometricFeatures, PlaneInformationFollowsTheNormals) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  LidarScan scan;
+  for (int i = 0; i < 20000; ++i) scan.points.emplace_back(4.0 * u(rng) + 4.0, 5.0 * u(rng), -1.7);
+  for (int i = 0; i < 10000; ++i) scan.points.emplace_back(9.0, 5.0 * u(rng), 1.5 * u(rng));
+  std::shuffle(scan.points.begin(), scan.points.end(), rng);
+  GeometricFeatureExtractor extractor;
+  ScanFeatures f, g;
+  std::string error;
+  Matrix6d info;
+  ASSERT_TRUE(
+      extractor.Extract(scan, FeatureOptions(), GeometricFeatureOptions(), &f, &error, &info))
+      << error;
+  ASSERT_TRUE(extractor.Extract(scan, FeatureOptions(), GeometricFeatureOptions(), &g, &error));
+  EXPECT_EQ(f.planes, g.planes);
+  EXPECT_EQ(f.edges, g.edges);
+  EXPECT_TRUE(info.isApprox(info.transpose()));
+  const double x = info(3, 3), y = info(4, 4), z = info(5, 5);  // tangent (dtheta, dt)
+  EXPECT_GT(x, 10.0);
+  EXPECT_GT(z, 10.0);
+  EXPECT_LT(y, 1e-3 * std::min(x, z));
+  // Rotation about z moves the wall's points along x (lever arm y): information there too.
+  EXPECT_GT(info(2, 2), 1.0);
+}
+
 TEST(GeometricFeatures, BadInputIsNamed) {
   GeometricFeatureExtractor extractor;
   ScanFeatures f;

@@ -127,8 +127,6 @@ DegeneracyCriterion CriterionFor(const LidarOdometryOptions& o) {
 
 void Notify(const StageObserver& observer, Stage stage) { observer ? observer(stage) : void(); }
 
-// The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
-// deskewing).
 // The extractor of a scan: LOAM's per ring, or (sensor generic) local geometry, with per-point
 // time after a deskew with the sweep motion T_sweep (sweep_motion.h).
 struct Extractors {
@@ -138,6 +136,8 @@ struct Extractors {
   SE3d T_sweep;
 };
 
+// The scan's features capped to max_edge_points / max_plane_points unless `all` (times when
+// deskewing).
 bool ExtractScanFeatures(const LidarScan& scan, const LidarOdometryOptions& o, bool deskew,
                          bool all, const Extractors& x, ScanFeatures* features,
                          std::string* error) {
@@ -308,6 +308,7 @@ FrameResult LidarOdometry::SkipFrame(const std::string& reason, double stamp) {
   result.T_w_s = options_.restart_from_stamps
                      ? PredictPoseAt(poses_, stamps_, stamp, options_.constant_velocity, &steps)
                      : PredictPose(poses_, options_.constant_velocity);
+  PredictAfterWideStart(stamp, &result.T_w_s);
   poses_.push_back(result.T_w_s);
   stamps_.push_back(stamp);
   result.map_points = edge_map_.NumPoints() + plane_map_.NumPoints();
@@ -335,6 +336,7 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   SE3d T_w_s_pred = options_.restart_from_stamps ? PredictPoseAt(poses_, stamps_, scan.timestamp,
                                                                  options_.constant_velocity, &steps)
                                                  : PredictPose(poses_, options_.constant_velocity);
+  PredictAfterWideStart(scan.timestamp, &T_w_s_pred);
   if (steps > 1) impl_->registered_streak = 0;
   impl_->stamp = scan.timestamp;
   Extractors x{&impl_->feature_extractor};
@@ -350,11 +352,14 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
     Notify(observer, Stage::kDone);
     return SkipFrame(error, scan.timestamp);
   }
+  // A generic first sweep seeds the map deskewed with its searched motion (sweep_motion.h).
+  const bool seed_deskewed = x.sweep && poses_.empty();
+  if (seed_deskewed) DeskewScanPoints(x.T_sweep, options_.features.scan_period, &features);
   FrameResult result;
   result.features = features.stats;
-  RegisterToMap(T_w_s_pred, deskew, observer, &features, &result);
+  RegisterToMap(T_w_s_pred, deskew && !seed_deskewed, observer, &features, &result);
   Notify(observer, Stage::kMapUpdate);
-  UpdateMap(deskew, &features, &result);
+  UpdateMap(deskew && !seed_deskewed, &features, &result);
   Notify(observer, Stage::kDone);
   return result;
 }

@@ -87,8 +87,10 @@ struct LidarOdometryOptions {
   // A gap right after the first scan (skipped or absent scans before any motion is known): the
   // start path runs from forward offsets along the sensor's x axis (a vehicle-mounted sensor)
   // every start_distance / 2 up to start_max_speed times the time since the first scan (the
-  // scan times, else scan_period per frame slot), and keeps the one whose normal registration
-  // matches the most points (odometry_start.cc). 0: off (the start path from the first pose).
+  // scan times, else scan_period per frame slot), and keeps the best by its normal registration
+  // (matches, cost per match, information along its weakest translation: odometry_start.cc);
+  // the next scan is predicted with the gap's motion per period. 0: off (the start path from
+  // the first pose).
   double start_max_speed = 35.0;  // m/s
   // Restart after a gap (scans missing without a skipped frame, seen from the scan timestamps):
   // when a scan comes more than 1.5 scan intervals after the last one, the constant-velocity
@@ -156,6 +158,7 @@ class LidarOdometry {
   SE3d RegisterWideStart(double periods, const StageObserver& observer, ScanFeatures* features,
                          FrameResult* result);
   double PeriodsSinceSeed() const;
+  bool PredictAfterWideStart(double stamp, SE3d* T_w_s_pred);
   bool RunRounds(const LidarOdometryOptions& o, const VoxelMap& edge_map, const VoxelMap& plane_map,
                  const SE3d& T_w_s_anchor, bool deskew_first_round, const StageObserver& observer,
                  ScanFeatures* features, FrameResult* result);
@@ -167,6 +170,9 @@ class LidarOdometry {
   VoxelMap edge_map_, plane_map_;
   std::vector<SE3d> poses_;     // one per processed or skipped frame
   std::vector<double> stamps_;  // their times (s; LidarScan::timestamp, 0 when unknown)
+  // The last pose came from the wide start over this many periods (0: not) from T_w_s_wide_from_.
+  double wide_start_periods_ = 0.0;
+  SE3d T_w_s_wide_from_;
   std::unique_ptr<Impl> impl_;
 };
 
