@@ -339,7 +339,8 @@ FrameResult LidarOdometry::ProcessScan(LidarScan&& scan, const StageObserver& ob
   PredictAfterWideStart(scan.timestamp, &T_w_s_pred);
   if (steps > 1) impl_->registered_streak = 0;
   impl_->stamp = scan.timestamp;
-  Extractors x{&impl_->feature_extractor};
+  Extractors x;
+  x.rings = &impl_->feature_extractor;
   if (impl_->generic && !(deskew && has_time)) x.geometric = &impl_->geometric_extractor;
   if (impl_->generic && deskew && has_time) {  // the sweep motion: constant velocity, or search
     x.sweep = &impl_->sweep_extractor;
