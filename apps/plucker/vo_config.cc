@@ -46,6 +46,9 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
   t.Value(SharedVisualOption("window.min_tracked"), PLUCKER_OPTION_MEMBER(window.min_tracked));
   t.Value(SharedVisualOption("window.min_tracked_ratio"),
           PLUCKER_OPTION_MEMBER(window.min_tracked_ratio));
+  t.Bool("window.tracked_ratio_mapped_segments",
+         "min_tracked_ratio counts only the segments of mapped lines (false: all segments)",
+         PLUCKER_OPTION_MEMBER(window.tracked_ratio_mapped_segments));
   t.Value("window.loss_scale", "sigma", "Huber scale of the reprojection residuals", Above(0.0),
           PLUCKER_OPTION_MEMBER(window.loss_scale));
   t.Value("window.outlier_sigmas", "sigma", "observations above this are culled", Above(0.0),

@@ -106,7 +106,7 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     m.keyframes.push_back(std::move(frame));
     // Triangulate.
     stage(WindowStage::kTriangulation);
-    m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines);
+    m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines, &result);
     // Solve.
     stage(WindowStage::kSolve);
     m.SolveWindow(&result);

@@ -454,6 +454,54 @@ TEST(SlidingWindowEstimator, PnpFallbackRecoversAFrameWithABadPrediction) {
   }
 }
 
+// Segments that never become lines (an image front end's: MH_05 has 60 a frame and 0-2 lines in
+// the window) make every frame a keyframe through min_tracked_ratio unless the ratio counts only
+// the segments of mapped lines (tracked_ratio_mapped_segments): then the keyframes are those of
+// the run without them. The line statistics of the results add up.
+TEST(SlidingWindowEstimator, TrackedRatioOfMappedSegmentsIgnoresSegmentsWithoutLines) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 20, 1);
+  const std::vector<FrameInput> clean = Inputs(s, 1);
+  std::vector<FrameInput> cluttered = clean;
+  int next_id = 1000000;
+  for (FrameInput& f : cluttered) {
+    for (int k = 0; k < 200; ++k) {
+      sensor::SegmentObservation seg;
+      seg.line_id = next_id++;  // a new track in every frame: never triangulated
+      seg.s_px = Eigen::Vector2d(20.0 + k, 40.0);
+      seg.e_px = Eigen::Vector2d(60.0 + k, 200.0);
+      f.segments.push_back(seg);
+    }
+  }
+  const auto keyframes = [&](const std::vector<FrameInput>& in, bool mapped_only) {
+    SlidingWindowOptions options;
+    options.tracked_ratio_mapped_segments = mapped_only;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    EXPECT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    std::vector<int> kf;
+    int line_residuals = 0;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
+      if (r.keyframe) kf.push_back(static_cast<int>(i));
+      EXPECT_LE(r.culled_line_observations, r.culled_observations);
+      EXPECT_LE(r.line_residuals, r.residuals);
+      EXPECT_LE(
+          r.new_lines + r.line_small_parallax + r.line_ill_conditioned + r.line_other_rejections,
+          r.line_candidates);
+      EXPECT_TRUE(std::isfinite(r.line_rms_sigmas) && std::isfinite(r.point_rms_sigmas));
+      line_residuals += r.line_residuals;
+    }
+    EXPECT_GT(line_residuals, 0);
+    return kf;
+  };
+  const std::vector<int> clean_kf = keyframes(clean, true);
+  const std::vector<int> all_segments = keyframes(cluttered, false);
+  std::printf("keyframes: %zu without clutter, %zu with 200 segments a frame counted\n",
+              clean_kf.size(), all_segments.size());
+  EXPECT_EQ(keyframes(cluttered, true), clean_kf);
+  EXPECT_EQ(all_segments.size(), clean.size() - 4);  // every frame
+  EXPECT_LT(clean_kf.size(), all_segments.size());
+}
+
 }  // namespace
 }  // namespace window
 }  // namespace plucker

@@ -11,7 +11,10 @@ using internal::LineLandmark;
 using internal::PointLandmark;
 
 // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
-void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, int* new_lines) {
+void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, int* new_lines,
+                                               WindowFrameResult* stats) {
+  WindowFrameResult unused;
+  WindowFrameResult& st = stats ? *stats : unused;
   for (const auto& obs : f.input.points) {
     if (points.count(obs.point_id) || retired_points.count(obs.point_id)) continue;
     std::vector<SE3d> poses;
@@ -53,7 +56,14 @@ void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, 
       }
     }
     if (views.size() < 2) continue;
+    ++st.line_candidates;
     const LineTriangulationResult t = TriangulateLine(K, views, opt.line_triangulation);
+    if (t.status == LineTriangulationStatus::kSmallParallax) ++st.line_small_parallax;
+    const bool ill = t.status == LineTriangulationStatus::kIllConditioned ||
+                     (t.ok() && t.sigma_ratio > opt.max_line_sigma_ratio);
+    st.line_ill_conditioned += ill;
+    if (!t.ok() && !ill && t.status != LineTriangulationStatus::kSmallParallax)
+      ++st.line_other_rejections;
     if (!t.ok() || t.sigma_ratio > opt.max_line_sigma_ratio) continue;
     LineAnchor anchor;
     if (opt.condition_far_lines) anchor = MakeLineAnchor(t.L_w, views.front().T_w_c.translation());
