@@ -268,6 +268,10 @@ struct SlidingWindowOptions {
     return o;
   }();
   double max_line_sigma_ratio = 0.2;  // reject ill-conditioned N-view lines (sigma3 / sigma2)
+  // A new line also needs this many keyframes observing it (>= 2), and the RMS endpoint-to-line
+  // distance of its triangulation in those views at most max_new_line_rms_px (0: no test).
+  int min_line_views = 2;
+  double max_new_line_rms_px = 0.0;
   MarginalizationOptions marginalization;
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
   // Stereo mode (docs/vo.md, "Stereo"): the second camera (same K) at T_c0_c1 in the frame of
@@ -328,7 +332,7 @@ struct WindowFrameResult {
   // New lines (keyframes): the newest keyframe's segment tracks without a line seen by >= 2
   // keyframes (triangulation tried), and those rejected for too small an angle between the
   // back-projected planes (LineTriangulationOptions::min_plane_angle_deg) or for conditioning
-  // (max_line_sigma_ratio) or another reason (behind the camera, degenerate).
+  // (max_line_sigma_ratio) or another reason (behind the camera, degenerate, max_new_line_rms_px).
   int line_candidates = 0;
   int line_small_parallax = 0;
   int line_ill_conditioned = 0;

@@ -326,6 +326,7 @@ struct SlidingWindowEstimator::Impl {
 
   // --- window_triangulation.cc ----------------------------------------------------------------
   // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
+  bool LineFits(const std::vector<LineObservation>& views, const Line6d& L_w) const;
   // `stats` (optional): the line_candidates and rejection counts.
   void Triangulate(const Frame& f, int* new_points, int* new_lines,
                    WindowFrameResult* stats = nullptr);
