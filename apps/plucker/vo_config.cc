@@ -51,6 +51,10 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
          PLUCKER_OPTION_MEMBER(window.tracked_ratio_mapped_segments));
   t.Value("window.loss_scale", "sigma", "Huber scale of the reprojection residuals", Above(0.0),
           PLUCKER_OPTION_MEMBER(window.loss_scale));
+  t.Value("window.point_sigma_px", "px", "pixel sigma of the point reprojection residuals",
+          Above(0.0), PLUCKER_OPTION_MEMBER(window.point_sigma_px));
+  t.Value("window.line_sigma_px", "px", "pixel sigma of the line (endpoint-to-line) residuals",
+          Above(0.0), PLUCKER_OPTION_MEMBER(window.line_sigma_px));
   t.Value("window.outlier_sigmas", "sigma", "observations above this are culled", Above(0.0),
           PLUCKER_OPTION_MEMBER(window.outlier_sigmas));
   t.Bool("window.keep_marginalized_lines",
@@ -176,6 +180,11 @@ VoConfig ImageVoConfig() {
   // points only, KITTI 0.0366 against 0.0259; with this 0.0265 and 0.0259: docs/results/vo.md).
   // Not for features folders: the simulated room, seed 1, went from 0.035 m to 0.35 m.
   c.window.tracked_ratio_mapped_segments = true;
+  // Segments are detected at lines.detection_scale 0.5: one pixel there is two in the image.
+  // Measured (docs/results/vo.md): MH_05 lines 0.0265 m with 1 px, 0.0248-0.0255 with 1.5-4 px
+  // (points 0.0257); KITTI with 5 deg lines (the only setting where lines enter its window)
+  // 0.0278 -> 0.0265 m.
+  c.window.line_sigma_px = 2.0;
   c.frontend.points.target_count = 200;
   c.frontend.points.min_distance_px = 20.0;
   c.frontend.max_segments = 60;
