@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -500,6 +501,42 @@ TEST(SlidingWindowEstimator, TrackedRatioOfMappedSegmentsIgnoresSegmentsWithoutL
   EXPECT_EQ(keyframes(cluttered, true), clean_kf);
   EXPECT_EQ(all_segments.size(), clean.size() - 4);  // every frame
   EXPECT_LT(clean_kf.size(), all_segments.size());
+}
+
+// The new-line gates: min_line_views keyframes and max_new_line_rms_px (counted among
+// line_other_rejections); bad values throw.
+TEST(SlidingWindowEstimator, NewLineGatesRejectLines) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 16, 1);
+  const std::vector<FrameInput> in = Inputs(s, 1);
+  const auto run = [&](int min_views, double max_rms) {
+    SlidingWindowOptions options;
+    options.min_line_views = min_views;
+    options.max_new_line_rms_px = max_rms;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    EXPECT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    WindowFrameResult sum;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
+      sum.new_lines += r.new_lines;
+      sum.line_candidates += r.line_candidates;
+      sum.line_other_rejections += r.line_other_rejections;
+    }
+    return sum;
+  };
+  const WindowFrameResult open = run(2, 0.0), views = run(1000, 0.0), rms = run(2, 1e-9);
+  std::printf("new lines: %d of %d tries; 1000 views: %d of %d; RMS 1e-9 px: %d (%d rejected)\n",
+              open.new_lines, open.line_candidates, views.new_lines, views.line_candidates,
+              rms.new_lines, rms.line_other_rejections);
+  EXPECT_GT(open.new_lines, 0);
+  EXPECT_EQ(views.new_lines + views.line_candidates, 0);
+  EXPECT_EQ(rms.new_lines, 0);
+  EXPECT_GT(rms.line_other_rejections, 0);
+  SlidingWindowOptions bad;
+  bad.min_line_views = 1;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+  bad.min_line_views = 2;
+  bad.max_new_line_rms_px = -1.0;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
 }  // namespace
