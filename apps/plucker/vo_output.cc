@@ -40,6 +40,58 @@ double Quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+// The window's points and lines over the run: means over the tracked frames (held in the window,
+// tracked), totals and means over the keyframes' solves (new, residuals, culled, RMS), and the
+// new-line triangulation's rejections (summary "landmarks").
+nlohmann::json LandmarkStatisticsJson(const std::vector<odometry::MonocularFrameRecord>& records) {
+  double held[2] = {}, tracked[2] = {}, rms[2] = {};
+  int frames = 0, solves = 0, line_solves = 0, added[2] = {}, residuals = 0, line_residuals = 0,
+      culled = 0, culled_lines = 0, candidates = 0, small_parallax = 0, ill = 0, other = 0;
+  for (const odometry::MonocularFrameRecord& rec : records) {
+    if (!rec.window || !rec.has_pose) continue;
+    const window::WindowFrameResult& r = *rec.window;
+    ++frames;
+    held[0] += r.window_points;
+    held[1] += r.window_lines;
+    tracked[0] += r.tracked_points;
+    tracked[1] += r.tracked_lines;
+    if (!r.keyframe) continue;
+    ++solves;
+    added[0] += r.new_points;
+    added[1] += r.new_lines;
+    residuals += r.residuals;
+    line_residuals += r.line_residuals;
+    culled += r.culled_observations;
+    culled_lines += r.culled_line_observations;
+    rms[0] += r.point_rms_sigmas;
+    rms[1] += r.line_rms_sigmas;
+    line_solves += r.line_residuals > 0;
+    candidates += r.line_candidates;
+    small_parallax += r.line_small_parallax;
+    ill += r.line_ill_conditioned;
+    other += r.line_other_rejections;
+  }
+  const auto mean = [](double sum, int n) { return n > 0 ? sum / n : 0.0; };
+  return {{"tracked_frames", frames},
+          {"mean_window_points", mean(held[0], frames)},
+          {"mean_window_lines", mean(held[1], frames)},
+          {"mean_tracked_points", mean(tracked[0], frames)},
+          {"mean_tracked_lines", mean(tracked[1], frames)},
+          {"keyframe_solves", solves},
+          {"new_points", added[0]},
+          {"new_lines", added[1]},
+          {"mean_point_residuals", mean(residuals - line_residuals, solves)},
+          {"mean_line_residuals", mean(line_residuals, solves)},
+          {"culled_point_observations", culled - culled_lines},
+          {"culled_line_observations", culled_lines},
+          {"mean_point_rms_sigmas", mean(rms[0], solves)},
+          {"mean_line_rms_sigmas", mean(rms[1], line_solves)},  // of the solves with lines
+          {"line_candidates", candidates},
+          {"line_small_parallax", small_parallax},
+          {"line_ill_conditioned", ill},
+          {"line_other_rejections", other}};
+}
+
 }  // namespace
 
 void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
@@ -104,6 +156,8 @@ void WriteVoJson(const std::string& path, const odometry::MonocularOdometry& vo,
       {"keyframes", sum.keyframes},
       {"lost_frames", sum.lost_frames},
       {"pnp_recoveries", sum.pnp_recoveries},
+      {"landmarks", LandmarkStatisticsJson(records)},
+      {"tracked_ratio_mapped_segments", w.tracked_ratio_mapped_segments},
       {"marginalized_keyframes", sum.marginalized_keyframes},
       {"failed_marginalizations", sum.failed_marginalizations},
       {"use_lines", w.use_lines},

@@ -31,6 +31,9 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     throw std::invalid_argument("SlidingWindowEstimator: keyframe_max_rotation_deg < 0");
   if (options.T_c0_c1 && options.inertial)
     throw std::invalid_argument("SlidingWindowEstimator: stereo is not for the inertial mode");
+  if (options.min_line_views < 2 || !(options.max_new_line_rms_px >= 0.0))
+    throw std::invalid_argument(
+        "SlidingWindowEstimator: min_line_views < 2 or max_new_line_rms_px < 0");
   impl_->K = K;
   impl_->opt = options;
   impl_->loss = factors::MakeLossFunction(options.loss, options.loss_scale);
@@ -106,7 +109,7 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     m.keyframes.push_back(std::move(frame));
     // Triangulate.
     stage(WindowStage::kTriangulation);
-    m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines);
+    m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines, &result);
     // Solve.
     stage(WindowStage::kSolve);
     m.SolveWindow(&result);

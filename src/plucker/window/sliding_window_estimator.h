@@ -186,6 +186,13 @@ struct SlidingWindowOptions {
   double keyframe_parallax_px = 10.0;
   int min_tracked = 20;
   double min_tracked_ratio = 0.6;
+  // The observations min_tracked_ratio is a share of: the frame's points and, with this, only its
+  // segments of mapped lines (those it can track; a point track counts whether mapped or not, but
+  // most segments of an image front end never become lines: the MH_05 clip's 60 segments a frame
+  // against 0-2 lines in the window). false: all its segments, so that with lines the 200 points
+  // and 60 segments of an image need 52 tracked landmarks instead of 40, and keyframes come at
+  // other frames than without lines.
+  bool tracked_ratio_mapped_segments = false;
   // Also a keyframe when this much time has passed since the newest one (s; 0: off, the VO
   // default). The vision-only window of the dynamic VIO initialisation sets it so that the IMU
   // is preintegrated over short spans (the inertial mode has its own, InertialOptions).
@@ -261,6 +268,10 @@ struct SlidingWindowOptions {
     return o;
   }();
   double max_line_sigma_ratio = 0.2;  // reject ill-conditioned N-view lines (sigma3 / sigma2)
+  // A new line also needs this many keyframes observing it (>= 2), and the RMS endpoint-to-line
+  // distance of its triangulation in those views at most max_new_line_rms_px (0: no test).
+  int min_line_views = 2;
+  double max_new_line_rms_px = 0.0;
   MarginalizationOptions marginalization;
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
   // Stereo mode (docs/vo.md, "Stereo"): the second camera (same K) at T_c0_c1 in the frame of
@@ -311,6 +322,21 @@ struct WindowFrameResult {
   double final_cost = 0.0;
   int residuals = 0;  // residual blocks in the window solve
   int culled_observations = 0;
+  // The lines' share of the window solve (keyframes): their residual blocks, the culled ones
+  // among culled_observations, and the RMS whitened residual norm (sigmas) after the solve of the
+  // line and of the point observations kept.
+  int line_residuals = 0;
+  int culled_line_observations = 0;
+  double line_rms_sigmas = 0.0;
+  double point_rms_sigmas = 0.0;
+  // New lines (keyframes): the newest keyframe's segment tracks without a line seen by >= 2
+  // keyframes (triangulation tried), and those rejected for too small an angle between the
+  // back-projected planes (LineTriangulationOptions::min_plane_angle_deg) or for conditioning
+  // (max_line_sigma_ratio) or another reason (behind the camera, degenerate, max_new_line_rms_px).
+  int line_candidates = 0;
+  int line_small_parallax = 0;
+  int line_ill_conditioned = 0;
+  int line_other_rejections = 0;
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
   int dropped_line_observations = 0;  // keep_marginalized_lines = false

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -452,6 +453,90 @@ TEST(SlidingWindowEstimator, PnpFallbackRecoversAFrameWithABadPrediction) {
       EXPECT_FALSE(r.ok && error < 0.05);
     }
   }
+}
+
+// Segments that never become lines (an image front end's: MH_05 has 60 a frame and 0-2 lines in
+// the window) make every frame a keyframe through min_tracked_ratio unless the ratio counts only
+// the segments of mapped lines (tracked_ratio_mapped_segments): then the keyframes are those of
+// the run without them. The line statistics of the results add up.
+TEST(SlidingWindowEstimator, TrackedRatioOfMappedSegmentsIgnoresSegmentsWithoutLines) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 20, 1);
+  const std::vector<FrameInput> clean = Inputs(s, 1);
+  std::vector<FrameInput> cluttered = clean;
+  int next_id = 1000000;
+  for (FrameInput& f : cluttered) {
+    for (int k = 0; k < 200; ++k) {
+      sensor::SegmentObservation seg;
+      seg.line_id = next_id++;  // a new track in every frame: never triangulated
+      seg.s_px = Eigen::Vector2d(20.0 + k, 40.0);
+      seg.e_px = Eigen::Vector2d(60.0 + k, 200.0);
+      f.segments.push_back(seg);
+    }
+  }
+  const auto keyframes = [&](const std::vector<FrameInput>& in, bool mapped_only) {
+    SlidingWindowOptions options;
+    options.tracked_ratio_mapped_segments = mapped_only;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    EXPECT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    std::vector<int> kf;
+    int line_residuals = 0;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
+      if (r.keyframe) kf.push_back(static_cast<int>(i));
+      EXPECT_LE(r.culled_line_observations, r.culled_observations);
+      EXPECT_LE(r.line_residuals, r.residuals);
+      EXPECT_LE(
+          r.new_lines + r.line_small_parallax + r.line_ill_conditioned + r.line_other_rejections,
+          r.line_candidates);
+      EXPECT_TRUE(std::isfinite(r.line_rms_sigmas) && std::isfinite(r.point_rms_sigmas));
+      line_residuals += r.line_residuals;
+    }
+    EXPECT_GT(line_residuals, 0);
+    return kf;
+  };
+  const std::vector<int> clean_kf = keyframes(clean, true);
+  const std::vector<int> all_segments = keyframes(cluttered, false);
+  std::printf("keyframes: %zu without clutter, %zu with 200 segments a frame counted\n",
+              clean_kf.size(), all_segments.size());
+  EXPECT_EQ(keyframes(cluttered, true), clean_kf);
+  EXPECT_EQ(all_segments.size(), clean.size() - 4);  // every frame
+  EXPECT_LT(clean_kf.size(), all_segments.size());
+}
+
+// The new-line gates: min_line_views keyframes and max_new_line_rms_px (counted among
+// line_other_rejections); bad values throw.
+TEST(SlidingWindowEstimator, NewLineGatesRejectLines) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 16, 1);
+  const std::vector<FrameInput> in = Inputs(s, 1);
+  const auto run = [&](int min_views, double max_rms) {
+    SlidingWindowOptions options;
+    options.min_line_views = min_views;
+    options.max_new_line_rms_px = max_rms;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    EXPECT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    WindowFrameResult sum;
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const WindowFrameResult r = estimator.AddFrame(in[i]);
+      sum.new_lines += r.new_lines;
+      sum.line_candidates += r.line_candidates;
+      sum.line_other_rejections += r.line_other_rejections;
+    }
+    return sum;
+  };
+  const WindowFrameResult open = run(2, 0.0), views = run(1000, 0.0), rms = run(2, 1e-9);
+  std::printf("new lines: %d of %d tries; 1000 views: %d of %d; RMS 1e-9 px: %d (%d rejected)\n",
+              open.new_lines, open.line_candidates, views.new_lines, views.line_candidates,
+              rms.new_lines, rms.line_other_rejections);
+  EXPECT_GT(open.new_lines, 0);
+  EXPECT_EQ(views.new_lines + views.line_candidates, 0);
+  EXPECT_EQ(rms.new_lines, 0);
+  EXPECT_GT(rms.line_other_rejections, 0);
+  SlidingWindowOptions bad;
+  bad.min_line_views = 1;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+  bad.min_line_views = 2;
+  bad.max_new_line_rms_px = -1.0;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
 }  // namespace

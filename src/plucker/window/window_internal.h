@@ -319,20 +319,26 @@ struct SlidingWindowEstimator::Impl {
 
   // --- window_keyframe_policy.cc: decide ------------------------------------------------------
   double Parallax(const Frame& f) const;
+  int TrackableSegments(const Frame& f) const;
   // Sets result->parallax_px and returns whether the tracked frame becomes a keyframe.
   bool DecideKeyframe(const Frame& f, const internal::TrackResult& track,
                       WindowFrameResult* result) const;
 
   // --- window_triangulation.cc ----------------------------------------------------------------
   // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
-  void Triangulate(const Frame& f, int* new_points, int* new_lines);
+  bool LineFits(const std::vector<LineObservation>& views, const Line6d& L_w) const;
+  // `stats` (optional): the line_candidates and rejection counts.
+  void Triangulate(const Frame& f, int* new_points, int* new_lines,
+                   WindowFrameResult* stats = nullptr);
 
   // --- window_solve.cc: solve and cull --------------------------------------------------------
   void SolveWindow(WindowFrameResult* result);
   // Marks the observations whose residual in `problem` (at the current values) cannot be
   // evaluated or exceeds the outlier threshold; returns the number marked.
+  // `stats` (optional): the line/point split of the residuals and of the culled observations.
   int CullOutliers(const ceres::Problem& problem,
-                   const std::vector<internal::ObservationBlock>& observations) const;
+                   const std::vector<internal::ObservationBlock>& observations,
+                   WindowFrameResult* stats = nullptr) const;
 
   // --- window_initialization.cc ---------------------------------------------------------------
   // The tail of every initialisation: the keyframes are in place.

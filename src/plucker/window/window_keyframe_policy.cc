@@ -57,10 +57,19 @@ double SlidingWindowEstimator::Impl::Parallax(const Frame& f) const {
   return 0.5 * (K.fx + K.fy) * baseline / UpperMedian(depth);
 }
 
+// The frame's segments the tracked-ratio test counts (SlidingWindowOptions::
+// tracked_ratio_mapped_segments): all, or those of mapped lines.
+int SlidingWindowEstimator::Impl::TrackableSegments(const Frame& f) const {
+  if (!opt.tracked_ratio_mapped_segments) return static_cast<int>(f.input.segments.size());
+  int n = 0;
+  for (const auto& s : f.input.segments) n += lines.count(s.line_id) > 0;
+  return n;
+}
+
 bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
                                                   WindowFrameResult* result) const {
   result->parallax_px = Parallax(f);
-  const int observed = static_cast<int>(f.input.points.size() + f.input.segments.size());
+  const int observed = static_cast<int>(f.input.points.size()) + TrackableSegments(f);
   const double since_keyframe = f.input.time - keyframes.back()->input.time;
   const bool turned = opt.keyframe_max_rotation_deg > 0.0 &&
                       Eigen::AngleAxisd(keyframes.back()->T_w_c().RotationMatrix().transpose() *

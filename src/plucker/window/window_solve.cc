@@ -31,23 +31,41 @@ void SlidingWindowEstimator::Impl::SolveWindow(WindowFrameResult* result) {
   SyncExtrinsic();
   // Cull outliers (the problem's own residual blocks, at the solution) and landmarks left with
   // too few observations.
-  result->culled_observations = CullOutliers(problem, observations);
+  result->culled_observations = CullOutliers(problem, observations, result);
   result->culled_observations += PruneRetained(true);
   RemoveWeakLandmarks();
 }
 
 // Marks the observations whose residual in `problem` (at the current values) cannot be
 // evaluated or exceeds the outlier threshold; returns the number marked.
-int SlidingWindowEstimator::Impl::CullOutliers(
-    const ceres::Problem& problem, const std::vector<ObservationBlock>& observations) const {
-  int culled = 0;
+// `stats` (optional): the line/point split (line_residuals, culled_line_observations and the RMS
+// of the kept residuals).
+int SlidingWindowEstimator::Impl::CullOutliers(const ceres::Problem& problem,
+                                               const std::vector<ObservationBlock>& observations,
+                                               WindowFrameResult* stats) const {
+  int culled = 0, culled_lines = 0, lines_total = 0;
+  double sq[2] = {0.0, 0.0};
+  int kept[2] = {0, 0};  // points, lines
   for (const ObservationBlock& o : observations) {
+    lines_total += !o.is_point;
     double res[2];
     const bool ok = problem.EvaluateResidualBlock(o.id, false, nullptr, res, nullptr) &&
                     std::isfinite(res[0]) && std::isfinite(res[1]);
-    if (ok && std::hypot(res[0], res[1]) <= opt.outlier_sigmas) continue;
+    const double norm = ok ? std::hypot(res[0], res[1]) : 0.0;
+    if (ok && norm <= opt.outlier_sigmas) {
+      sq[o.is_point ? 0 : 1] += norm * norm;
+      ++kept[o.is_point ? 0 : 1];
+      continue;
+    }
     (o.is_point ? o.frame->point_outlier : o.frame->segment_outlier)[o.observation] = 1;
     ++culled;
+    culled_lines += !o.is_point;
+  }
+  if (stats) {
+    stats->line_residuals = lines_total;
+    stats->culled_line_observations = culled_lines;
+    stats->point_rms_sigmas = kept[0] > 0 ? std::sqrt(sq[0] / kept[0]) : 0.0;
+    stats->line_rms_sigmas = kept[1] > 0 ? std::sqrt(sq[1] / kept[1]) : 0.0;
   }
   return culled;
 }

@@ -1,5 +1,8 @@
 // New points and lines for the newest keyframe's tracks from the window's keyframes (linear
 // N-view triangulation with the parallax and conditioning checks of the options).
+#include <algorithm>
+#include <cmath>
+
 #include "plucker/geometry/orthonormal_line.h"
 #include "plucker/window/window_internal.h"
 
@@ -10,8 +13,19 @@ using internal::Frame;
 using internal::LineLandmark;
 using internal::PointLandmark;
 
+// Whether the RMS endpoint-to-line distance of L_w in `views` is at most max_new_line_rms_px.
+bool SlidingWindowEstimator::Impl::LineFits(const std::vector<LineObservation>& views,
+                                            const Line6d& L_w) const {
+  const std::optional<Eigen::VectorXd> e = LineReprojectionErrors(K, views, L_w);
+  if (!e || e->size() == 0) return false;
+  return std::sqrt(e->squaredNorm() / static_cast<double>(e->size())) <= opt.max_new_line_rms_px;
+}
+
 // New landmarks for the tracks of keyframe `f` (the newest) that have none yet.
-void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, int* new_lines) {
+void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, int* new_lines,
+                                               WindowFrameResult* stats) {
+  WindowFrameResult unused;
+  WindowFrameResult& st = stats ? *stats : unused;
   for (const auto& obs : f.input.points) {
     if (points.count(obs.point_id) || retired_points.count(obs.point_id)) continue;
     std::vector<SE3d> poses;
@@ -52,9 +66,20 @@ void SlidingWindowEstimator::Impl::Triangulate(const Frame& f, int* new_points, 
         break;
       }
     }
-    if (views.size() < 2) continue;
+    if (views.size() < static_cast<std::size_t>(std::max(opt.min_line_views, 2))) continue;
+    ++st.line_candidates;
     const LineTriangulationResult t = TriangulateLine(K, views, opt.line_triangulation);
+    if (t.status == LineTriangulationStatus::kSmallParallax) ++st.line_small_parallax;
+    const bool ill = t.status == LineTriangulationStatus::kIllConditioned ||
+                     (t.ok() && t.sigma_ratio > opt.max_line_sigma_ratio);
+    st.line_ill_conditioned += ill;
+    if (!t.ok() && !ill && t.status != LineTriangulationStatus::kSmallParallax)
+      ++st.line_other_rejections;
     if (!t.ok() || t.sigma_ratio > opt.max_line_sigma_ratio) continue;
+    if (opt.max_new_line_rms_px > 0.0 && !LineFits(views, t.L_w)) {
+      ++st.line_other_rejections;
+      continue;
+    }
     LineAnchor anchor;
     if (opt.condition_far_lines) anchor = MakeLineAnchor(t.L_w, views.front().T_w_c.translation());
     const std::optional<OrthonormalLine> o =
