@@ -115,7 +115,9 @@ std::vector<LidarOption> MakeRows() {
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.start_distance));
   t.Value("registration.start_max_speed", "m/s",
           "a gap right after the first scan: the start path from forward offsets up to this "
-          "speed times the time elapsed, the best match kept (0: off)",
+          "speed times the time elapsed; of the candidates within 10 % of the most matches the "
+          "lowest cost per match is kept, unless another's weakest translation information is "
+          "3x its (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.start_max_speed));
   t.Bool("registration.restart_from_stamps",
          "a scan more than 1.5 intervals after the last: the velocity step once per interval "
