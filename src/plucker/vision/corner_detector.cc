@@ -59,11 +59,24 @@ class RowSums {
   std::vector<float> products_;
 };
 
+// The eigenvalue of columns [x0, x1) from the three box sums (float, as OpenCV's).
+void MinEigen(const float* __restrict bxx, const float* __restrict bxy, const float* __restrict byy,
+              int x0, int x1, float* __restrict e) {
+  for (int x = x0; x < x1; ++x) {
+    const float a = bxx[x] * 0.5f, b = bxy[x], c = byy[x] * 0.5f;
+    const float t = a - c;
+    e[x] = (a + c) - std::sqrt(t * t + b * b);
+  }
+}
+
 }  // namespace
 
-void MinEigenResponse3(const cv::Mat& image, cv::Mat* response) {
+void MinEigenResponse3(const cv::Mat& image, cv::Mat* response, const cv::Mat& needed) {
   if (image.empty() || image.type() != CV_8UC1) {
     throw std::invalid_argument("MinEigenResponse3: the image must be non-empty 8-bit grayscale");
+  }
+  if (!needed.empty() && (needed.type() != CV_8UC1 || needed.size() != image.size())) {
+    throw std::invalid_argument("MinEigenResponse3: `needed` must be 8-bit of the image's size");
   }
   const int w = image.cols, h = image.rows;
   // cornerMinEigenVal's scale for an 8-bit image, 3x3 Sobel and 3x3 block: 1 / (4 * 3 * 255).
@@ -108,10 +121,19 @@ void MinEigenResponse3(const cv::Mat& image, cv::Mat* response) {
     const float* __restrict bxy = &box[w];
     const float* __restrict byy = &box[2 * static_cast<size_t>(w)];
     float* __restrict e = response->ptr<float>(y);
-    for (int x = 0; x < w; ++x) {
-      const float a = bxx[x] * 0.5f, b = bxy[x], c = byy[x] * 0.5f;
-      const float t = a - c;
-      e[x] = (a + c) - std::sqrt(t * t + b * b);
+    if (needed.empty()) {
+      MinEigen(bxx, bxy, byy, 0, w, e);
+      continue;
+    }
+    // Runs of needed pixels; 0 between them.
+    const uchar* m = needed.ptr<uchar>(y);
+    for (int x = 0; x < w;) {
+      const int begin = x;
+      while (x < w && !m[x]) ++x;
+      std::fill(e + begin, e + x, 0.0f);
+      const int run = x;
+      while (x < w && m[x]) ++x;
+      MinEigen(bxx, bxy, byy, run, x, e);
     }
   }
 }
@@ -125,8 +147,12 @@ std::vector<cv::Point2f> ShiTomasiCorners(const cv::Mat& image, int max_corners,
   if (!(quality_level > 0 && quality_level < 1)) {
     throw std::invalid_argument("ShiTomasiCorners: quality_level must be in (0, 1)");
   }
+  // Only the mask's pixels and their 3x3 neighbours are read below: the eigenvalue elsewhere
+  // is skipped (the same corners).
+  cv::Mat needed;
+  if (!mask.empty()) cv::dilate(mask, needed, cv::Mat());
   cv::Mat eig;
-  MinEigenResponse3(image, &eig);
+  MinEigenResponse3(image, &eig, needed);
   double max_value = 0;
   cv::minMaxLoc(eig, nullptr, &max_value, nullptr, nullptr, mask);
   const float threshold = static_cast<float>(max_value * quality_level);

@@ -16,8 +16,9 @@ namespace plucker {
 namespace vision {
 
 // The minimum-eigenvalue response of cv::cornerMinEigenVal(image, out, 3, 3) (CV_8UC1 in,
-// CV_32FC1 out, BORDER_REFLECT_101), identical to it.
-void MinEigenResponse3(const cv::Mat& image, cv::Mat* response);
+// CV_32FC1 out, BORDER_REFLECT_101), identical to it. With a non-empty `needed` (CV_8UC1, the
+// image's size) the eigenvalue is computed only where needed is non-zero (0 elsewhere).
+void MinEigenResponse3(const cv::Mat& image, cv::Mat* response, const cv::Mat& needed = {});
 
 // Corners as cv::goodFeaturesToTrack with block_size 3 (the same corners in the same order).
 // image: CV_8UC1; mask: empty or CV_8UC1 of the image's size. max_corners <= 0: all.

@@ -36,6 +36,17 @@ void ExpectSameAsOpenCv(const cv::Mat& gray, const std::string& what) {
     ASSERT_EQ(0, std::memcmp(ref.ptr(y), mine.ptr(y), ref.cols * sizeof(float)))
         << what << ": response differs in row " << y;
   }
+  // Only where needed: OpenCV's values there, 0 elsewhere.
+  const cv::Mat needed = TrackMask(gray.size(), 3);
+  cv::Mat part;
+  MinEigenResponse3(gray, &part, needed);
+  for (int y = 0; y < ref.rows; ++y) {
+    for (int x = 0; x < ref.cols; ++x) {
+      const float expected = needed.at<uchar>(y, x) ? ref.at<float>(y, x) : 0.0f;
+      ASSERT_EQ(0, std::memcmp(&expected, &part.at<float>(y, x), sizeof(float)))
+          << what << ": needed-only response differs at " << x << ", " << y;
+    }
+  }
   for (int seed = 0; seed < 2; ++seed) {
     const cv::Mat mask = seed == 0 ? cv::Mat() : TrackMask(gray.size(), seed);
     for (double min_distance : {0.0, 20.0}) {
