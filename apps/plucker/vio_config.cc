@@ -5,12 +5,40 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "vo_config.h"
 
 namespace plucker {
 namespace app {
 namespace {
+
+// "[a, b, ...]" of the values.
+template <typename Values>
+std::string FormatList(const Values& values, std::size_t n) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < n; ++i)
+    s += (i ? ", " : "") + options_internal::FormatNumber(values[i]);
+  return s + "]";
+}
+
+// A YAML list of `size` finite numbers, or an empty one. std::invalid_argument otherwise: "expected
+// a list of <size> numbers <shape>" for what is not a list of numbers, `invalid` for the wrong
+// count or a value that is not finite.
+std::vector<double> ReadFiniteList(const YAML::Node& n, std::size_t size, const std::string& shape,
+                                   const std::string& invalid) {
+  std::vector<double> e;
+  try {
+    if (!n.IsSequence()) throw std::invalid_argument("");
+    e = n.as<std::vector<double>>();
+  } catch (const std::exception&) {
+    throw std::invalid_argument("expected a list of " + std::to_string(size) + " numbers " + shape);
+  }
+  const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
+  if (!e.empty() && (e.size() != size || !finite)) throw std::invalid_argument(invalid);
+  return e;
+}
 
 // [tx, ty, tz, qx, qy, qz, qw] with a non-zero quaternion, or empty.
 OptionRow<VioConfig> ExtrinsicRow() {
@@ -22,26 +50,13 @@ OptionRow<VioConfig> ExtrinsicRow() {
                          "7 finite numbers, quaternion != 0",
                          nullptr,
                          nullptr};
-  o.get = [](const VioConfig& c) {
-    std::string s = "[";
-    for (std::size_t i = 0; i < c.T_b_c.size(); ++i)
-      s += (i ? ", " : "") + options_internal::FormatNumber(c.T_b_c[i]);
-    return s + "]";
-  };
+  o.get = [](const VioConfig& c) { return FormatList(c.T_b_c, c.T_b_c.size()); };
   o.set = [](const YAML::Node& n, VioConfig* c) {
-    std::vector<double> e;
-    try {
-      if (!n.IsSequence()) throw std::invalid_argument("");
-      e = n.as<std::vector<double>>();
-    } catch (const std::exception&) {
-      throw std::invalid_argument("expected a list of 7 numbers [tx, ty, tz, qx, qy, qz, qw]");
-    }
-    const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
-    if (!e.empty() &&
-        (e.size() != 7 || !finite || Eigen::Vector4d(e[3], e[4], e[5], e[6]).norm() < 1e-6)) {
-      throw std::invalid_argument(
-          "expected 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero quaternion");
-    }
+    const std::string invalid =
+        "expected 7 finite numbers [tx, ty, tz, qx, qy, qz, qw] with a non-zero quaternion";
+    const std::vector<double> e = ReadFiniteList(n, 7, "[tx, ty, tz, qx, qy, qz, qw]", invalid);
+    if (!e.empty() && Eigen::Vector4d(e[3], e[4], e[5], e[6]).norm() < 1e-6)
+      throw std::invalid_argument(invalid);
     c->T_b_c = e;
   };
   return o;
@@ -54,21 +69,11 @@ OptionRow<VioConfig> BiasRow(const char* key, const char* unit, const char* doc,
   OptionRow<VioConfig> o{key, "list", unit, doc, "3 finite numbers, or []", nullptr, nullptr};
   o.get = [member](const VioConfig& c) {
     const std::optional<Eigen::Vector3d>& v = c.odometry.*member;
-    std::string s = "[";
-    for (int i = 0; v && i < 3; ++i) s += (i ? ", " : "") + options_internal::FormatNumber((*v)[i]);
-    return s + "]";
+    return FormatList(v.value_or(Eigen::Vector3d::Zero()), v ? 3 : 0);
   };
   o.set = [member](const YAML::Node& n, VioConfig* c) {
-    std::vector<double> e;
-    try {
-      if (!n.IsSequence()) throw std::invalid_argument("");
-      e = n.as<std::vector<double>>();
-    } catch (const std::exception&) {
-      throw std::invalid_argument("expected a list of 3 numbers [x, y, z]");
-    }
-    const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
-    if (!e.empty() && (e.size() != 3 || !finite))
-      throw std::invalid_argument("expected 3 finite numbers [x, y, z] or []");
+    const std::vector<double> e =
+        ReadFiniteList(n, 3, "[x, y, z]", "expected 3 finite numbers [x, y, z] or []");
     std::optional<Eigen::Vector3d>& v = c->odometry.*member;
     v.reset();
     if (!e.empty()) v = Eigen::Vector3d(e[0], e[1], e[2]);
