@@ -67,11 +67,12 @@ struct VisualInertialInitializer::Impl {
   std::optional<VioStart> aligned;
   int extend_until = 0;
 
-  // The preintegration of the window (gaps bridged as it bridges them: InertialOptions::imu_gap_s).
+  double imu_gap_s = 0.0;  // the window's (WindowOptions(o, calib).inertial->imu_gap_s)
+
+  // The preintegration at zero bias, gaps bridged as the window bridges them.
   ImuPreintegration Preintegrate(const std::vector<sensor::ImuSample>& imu, double t0,
                                  double t1) const {
-    return PreintegrateSamples(imu, t0, t1, sensor::ImuBias(), calib.imu,
-                               window::InertialOptions().imu_gap_s);
+    return PreintegrateSamples(imu, t0, t1, sensor::ImuBias(), calib.imu, imu_gap_s);
   }
   bool Extended(const std::vector<window::FrameInput>& frames,
                 const std::vector<sensor::ImuSample>& imu);
@@ -334,6 +335,7 @@ VisualInertialInitializer::VisualInertialInitializer(const VisualInertialOdometr
     : impl_(std::make_unique<Impl>()) {
   impl_->o = options;
   impl_->calib = calibration;
+  impl_->imu_gap_s = WindowOptions(options, calibration).inertial->imu_gap_s;
 }
 
 VisualInertialInitializer::~VisualInertialInitializer() = default;
