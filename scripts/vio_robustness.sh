@@ -7,7 +7,8 @@
 # seconds x rate); CASES: "scene:rate:start:motion ..." (default the table of the issue plus the
 # aggressive and fast scenes). Seeds are the outer loop (a run stopped early leaves every case
 # with the same seeds). Writes OUT_DIR/runs.tsv (one row per run) and prints the table (median
-# and worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share).
+# and worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share, the
+# slowest run's process CPU against the simulated time: `x real time`).
 # VIO_ARGS (environment): extra `plucker vio` flags for every run, e.g. "--config my.yaml".
 # --summary: the table of several runs.tsv files (e.g. two OUT_DIRs run side by side on
 # disjoint seeds).
@@ -26,7 +27,8 @@ corridor:20:static:normal room:30:moving:aggressive corridor:30:moving:aggressiv
 room:30:moving:fast corridor:30:moving:fast}"
 mkdir -p "$OUT"
 RUNS="$OUT/runs.tsv"
-printf 'scene\trate\tstart\tmotion\tseed\tframes\tate_m\timu_only_frames\texit\tlines\n' > "$RUNS"
+printf 'scene\trate\tstart\tmotion\tseed\tframes\tate_m\timu_only_frames\texit\tlines\tcpu_s\twall_s\n' \
+  > "$RUNS"
 for seed in $SEEDS; do
   for c in $CASES; do
     IFS=: read -r scene rate start motion <<< "$c"
@@ -43,16 +45,20 @@ for seed in $SEEDS; do
       flag=""
       [ "$lines" = no ] && flag="--no-lines"
       rm -f "$OUT/est.tum" "$OUT/est.json"  # a failed run must not leave the previous one's
-      "$P" vio --features "$d" --out "$OUT/est.tum" --json "$OUT/est.json" --quiet $flag \
-        ${VIO_ARGS:-} 2> "$OUT/last.err"
+      # Process CPU (user + system) and wall time of the run: under `nice 19` on a loaded machine
+      # the wall time says how much CPU the run was given, not what it needs.
+      /usr/bin/time -o "$OUT/time.txt" -f '%U %S %e' "$P" vio --features "$d" --out "$OUT/est.tum" \
+        --json "$OUT/est.json" --quiet $flag ${VIO_ARGS:-} 2> "$OUT/last.err"
       rc=$?
+      read -r t_user t_sys t_wall < <(tail -1 "$OUT/time.txt")
+      cpu=$(awk -v u="$t_user" -v s="$t_sys" 'BEGIN { printf "%.2f", u + s }')
       ate=$("$P" eval ate --gt "$OUT/gt.tum" --est "$OUT/est.tum" --align posyaw --json 2> /dev/null |
         python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["translation_m"]["rmse"])' \
         2> /dev/null || echo nan)
       imu=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["summary"]["imu_only_frames"])' \
         "$OUT/est.json" 2> /dev/null || echo nan)
-      printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$rate" "$start" "$motion" "$seed" \
-        "$frames" "$ate" "$imu" "$rc" "$lines" >> "$RUNS"
+      printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$rate" "$start" "$motion" \
+        "$seed" "$frames" "$ate" "$imu" "$rc" "$lines" "$cpu" "$t_wall" >> "$RUNS"
     done
   done
 done
@@ -64,8 +70,8 @@ rows = [r for f in sys.argv[1:] for r in csv.DictReader(open(f), delimiter="\t")
 groups = {}
 for r in rows:
     groups.setdefault((r["scene"], r["rate"], r["start"], r["motion"], r["lines"]), []).append(r)
-print("| scene | Hz | start | motion | lines | runs | median ATE [m] | worst ATE [m] | runs > 0.5 m | IMU-only frames (worst run) | non-zero exits |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+print("| scene | Hz | start | motion | lines | runs | median ATE [m] | worst ATE [m] | runs > 0.5 m | IMU-only frames (worst run) | non-zero exits | x real time (slowest run) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|")
 total_over = 0
 for k, g in groups.items():
     # A run that failed (exit 1: no output) counts as over 0.5 m, its ATE as infinite.
@@ -74,7 +80,11 @@ for k, g in groups.items():
     total_over += over
     imu = max(int(r["imu_only_frames"]) if r["imu_only_frames"] != "nan" else -1 for r in g)
     bad = sum(r["exit"] != "0" for r in g)
-    print("| %s | %s | %s | %s | %s | %d | %.3f | %.3f | %d | %d | %d |" % (
-        k[0], k[1], k[2], k[3], k[4], len(g), statistics.median(ate), max(ate), over, imu, bad))
+    # The simulated seconds over the process CPU (runs.tsv files of before have no CPU column).
+    speed = [int(r["frames"]) / float(r["rate"]) / float(r["cpu_s"]) for r in g
+             if r.get("cpu_s") not in (None, "", "nan") and float(r["cpu_s"]) > 0]
+    print("| %s | %s | %s | %s | %s | %d | %.3f | %.3f | %d | %d | %d | %s |" % (
+        k[0], k[1], k[2], k[3], k[4], len(g), statistics.median(ate), max(ate), over, imu, bad,
+        "%.1f" % min(speed) if speed else "-"))
 print("runs over 0.5 m: %d of %d" % (total_over, len(rows)))
 PY
