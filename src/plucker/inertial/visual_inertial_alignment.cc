@@ -46,8 +46,8 @@ void Validate(const AlignmentInput& in, const AlignmentOptions& o) {
     throw std::invalid_argument("AlignVisualInertial: the extrinsic T_b_c is not finite");
   }
   if (!(o.gravity_magnitude > 0 && o.max_gravity_deviation > 0 && o.max_scale_relative_sigma > 0 &&
-        o.visual_position_sigma >= 0 && o.max_whitened_rms > 0 && o.gyro_bias_iterations >= 1 &&
-        o.gravity_iterations >= 1 && o.min_keyframes >= 3)) {
+        o.visual_position_sigma >= 0 && o.max_whitened_rms > 0 && o.max_accel_bias_sigmas > 0 &&
+        o.gyro_bias_iterations >= 1 && o.gravity_iterations >= 1 && o.min_keyframes >= 3)) {
     throw std::invalid_argument("AlignVisualInertial: invalid options");
   }
 }
@@ -120,9 +120,9 @@ bool SolveLeastSquares(const MatrixXd& A, const VectorXd& b, VectorXd* x, Matrix
   return true;
 }
 
-std::string Format(const char* fmt, double a, double b) {
+std::string Format(const char* fmt, double a, double b, double c = 0.0) {
   char buf[256];
-  std::snprintf(buf, sizeof(buf), fmt, a, b);
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c);
   return buf;
 }
 
@@ -267,6 +267,16 @@ AlignmentResult AlignVisualInertial(const AlignmentInput& in, const AlignmentOpt
         "the whitened residuals' rms is %.3g, at most %.3g allowed: the visual "
         "poses and the IMU disagree",
         r.whitened_rms, o.max_whitened_rms);
+    return r;
+  }
+  const double bias_sigmas =
+      with_ba ? (r.bias.accel - ba_prior).norm() / o.accel_bias_prior_sigma : 0.0;
+  if (!(bias_sigmas <= o.max_accel_bias_sigmas)) {
+    r.status = AlignmentStatus::kInconsistent;
+    r.message = Format(
+        "the accelerometer bias is %.3g m/s^2, %.3g sigmas of its prior, at most %.3g allowed: the "
+        "visual poses and the IMU disagree",
+        (r.bias.accel - ba_prior).norm(), bias_sigmas, o.max_accel_bias_sigmas);
     return r;
   }
   if (!(r.scale_sigma <= o.max_scale_relative_sigma * r.scale)) {
