@@ -27,7 +27,7 @@ corridor:20:static:normal room:30:moving:aggressive corridor:30:moving:aggressiv
 room:30:moving:fast corridor:30:moving:fast}"
 mkdir -p "$OUT"
 RUNS="$OUT/runs.tsv"
-printf 'scene\trate\tstart\tmotion\tseed\tframes\tate_m\timu_only_frames\texit\tlines\tcpu_s\twall_s\n' \
+printf 'scene\trate\tstart\tmotion\tseed\tframes\tate_m\timu_only_frames\texit\tlines\tcpu_s\twall_s\tmax_kf_imu_chi2\n' \
   > "$RUNS"
 for seed in $SEEDS; do
   for c in $CASES; do
@@ -57,8 +57,11 @@ for seed in $SEEDS; do
         2> /dev/null || echo nan)
       imu=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["summary"]["imu_only_frames"])' \
         "$OUT/est.json" 2> /dev/null || echo nan)
-      printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$rate" "$start" "$motion" \
-        "$seed" "$frames" "$ate" "$imu" "$rc" "$lines" "$cpu" "$t_wall" >> "$RUNS"
+      # The largest whitened IMU-factor chi2 of the run's keyframes (after their solve).
+      chi2=$(python3 -c 'import json,sys; print("%.1f" % max([f.get("imu_chi2", 0) for f in json.load(open(sys.argv[1]))["frames"] if f.get("keyframe")] + [0]))' \
+        "$OUT/est.json" 2> /dev/null || echo nan)
+      printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$rate" "$start" \
+        "$motion" "$seed" "$frames" "$ate" "$imu" "$rc" "$lines" "$cpu" "$t_wall" "$chi2" >> "$RUNS"
     done
   done
 done

@@ -531,6 +531,17 @@ expect vio-plot 0 "<svg" -- head -c 400 "$T/vio.svg"
 # The plot's panels: top view, error, height and both biases (no ground-truth biases here).
 expect vio-plot-panels 0 "^5$" -- bash -c "grep -oE '>(Top view|position error over time|height|gyroscope bias|accelerometer bias)[ <(]' '$T/vio.svg' | wc -l"
 expect vio-no-nan 0 "^0$" -- bash -c "grep -ci nan '$T/vio.tum' || true"
+# The IMU-vision consistency check: no keyframe of this healthy run over the default bound (JSON
+# count 0, exit 0 above); with a bound no real IMU factor meets, every keyframe is named and the
+# exit code is 3.
+expect vio-consistent-json 0 '"inconsistent_keyframes": 0' -- cat "$T/vio.json"
+printf 'checks:\n  max_keyframe_imu_chi2: 1e-9\n' > "$T/vio_chi2.yaml"
+expect vio-inconsistent-warns 0 "keyframes where the IMU and the vision disagree .*frames [0-9]+ \(" -- \
+  bash -c "'$PLUCKER' vio --features '$T/vcam' --out '$T/vio_c.tum' --json '$T/vio_c.json' \
+  --config '$T/vio_chi2.yaml' --no-lines --point-stride 2 --quiet; echo rc=\$?"
+expect vio-inconsistent-exit-3 0 "rc=3" -- bash -c "'$PLUCKER' vio --features '$T/vcam' \
+  --out '$T/vio_c.tum' --config '$T/vio_chi2.yaml' --no-lines --point-stride 2 --quiet 2> /dev/null; echo rc=\$?"
+expect vio-inconsistent-json 0 '"inconsistent_keyframes": [1-9]' -- cat "$T/vio_c.json"
 cp -r "$T/vcam" "$T/vgap"
 awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"
 sed -i "s/^counts \([0-9]*\) [0-9]*/counts \1 $(grep -vc '^#' "$T/vgap/imu.txt")/" "$T/vgap/rig.txt"

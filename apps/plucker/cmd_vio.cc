@@ -147,11 +147,18 @@ int Run(const VioArgs& a) {
   if (!a.out_online.empty()) WriteVioTrajectory(a.out_online, online, true, in.clock_origin_ns);
   if (!a.plot.empty()) WriteVioPlot(a.plot, in, refined, online);
   const double duration = refined.back().time - refined.front().time;
+  const std::vector<VioReport::KeyframeChi2> inconsistent =
+      InconsistentKeyframes(report, cfg.max_keyframe_imu_chi2);
   if (!a.json.empty()) {
     nlohmann::json out = report.Json(in, vio, read_ms, WallMs() - t_start);
     out["summary"]["use_lines"] = cfg.odometry.use_lines;
     out["summary"]["point_stride"] = cfg.point_stride;
     out["summary"]["max_imu_only_share"] = cfg.max_imu_only_share;
+    out["summary"]["max_keyframe_imu_chi2"] = cfg.max_keyframe_imu_chi2;
+    nlohmann::json frames = nlohmann::json::array();
+    for (const VioReport::KeyframeChi2& k : inconsistent) frames.push_back(k.frame);
+    out["summary"]["inconsistent_keyframes"] = inconsistent.size();
+    out["summary"]["inconsistent_keyframe_frames"] = frames;
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) PrintVioSummary(a.out, cfg.odometry.estimate_extrinsic, report, vio, in, duration);
@@ -159,7 +166,9 @@ int Run(const VioArgs& a) {
     std::cerr << "plucker vio: warning: " << report.skipped
               << " frames skipped (no IMU coverage or no finite pose; listed in the JSON)\n";
   }
-  return WarnImuOnly(vio.statistics(), cfg.max_imu_only_share);
+  const int imu_only_exit = WarnImuOnly(vio.statistics(), cfg.max_imu_only_share);
+  const int inconsistent_exit = WarnInconsistent(inconsistent, cfg.max_keyframe_imu_chi2);
+  return imu_only_exit != 0 ? imu_only_exit : inconsistent_exit;
 }
 
 }  // namespace

@@ -180,6 +180,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("checks.max_imu_only_share", "",
           "exit code 3 when more than this share of the frames had no visual update",
           Range{0.0, 1.0}, PLUCKER_OPTION_MEMBER(max_imu_only_share));
+  t.Value("checks.max_keyframe_imu_chi2", "",
+          "exit code 3 when a keyframe's IMU factor has a larger whitened squared residual (15 "
+          "degrees of freedom): the IMU and the vision disagree",
+          Above(0.0), PLUCKER_OPTION_MEMBER(max_keyframe_imu_chi2));
   return t.Take();
 }
 

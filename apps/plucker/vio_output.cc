@@ -92,6 +92,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
     marginalized_ += w.marginalized_keyframes;
     failed_marginalizations_ += w.marginalization_failed;
     chi2_total_ += w.imu_chi2;
+    if (w.keyframe) keyframe_chi2.push_back({rec.frame, rec.time, w.imu_chi2});
     window_points = w.window_points;
     window_lines = w.window_lines;
     if (own) {
@@ -234,6 +235,33 @@ int WarnImuOnly(const odometry::VioStatistics& stats, double max_share) {
   std::cerr << "plucker vio: warning: the IMU-only share " << std::fixed << std::setprecision(3)
             << share << " exceeds max_imu_only_share " << max_share
             << ": the trajectory is not trustworthy (exit code " << kExitImuOnly << ")\n";
+  return kExitImuOnly;
+}
+
+std::vector<VioReport::KeyframeChi2> InconsistentKeyframes(const VioReport& report,
+                                                           double max_chi2) {
+  std::vector<VioReport::KeyframeChi2> out;
+  for (const VioReport::KeyframeChi2& k : report.keyframe_chi2)
+    if (!(k.chi2 <= max_chi2)) out.push_back(k);
+  return out;
+}
+
+int WarnInconsistent(const std::vector<VioReport::KeyframeChi2>& inconsistent, double max_chi2) {
+  if (inconsistent.empty()) return 0;
+  std::ostringstream w;
+  w << std::fixed << "plucker vio: warning: " << inconsistent.size()
+    << " keyframes where the IMU and the vision disagree (IMU factor chi2 over "
+       "max_keyframe_imu_chi2 "
+    << std::setprecision(1) << max_chi2 << "): frames ";
+  const std::size_t shown = std::min<std::size_t>(inconsistent.size(), 5);
+  for (std::size_t k = 0; k < shown; ++k) {
+    const VioReport::KeyframeChi2& c = inconsistent[k];
+    w << (k > 0 ? ", " : "") << c.frame << " (" << std::setprecision(2) << c.time << " s, chi2 "
+      << std::setprecision(1) << c.chi2 << ")";
+  }
+  if (inconsistent.size() > shown) w << " and " << inconsistent.size() - shown << " more";
+  std::cerr << w.str() << ": the trajectory is not trustworthy (exit code " << kExitImuOnly
+            << ")\n";
   return kExitImuOnly;
 }
 

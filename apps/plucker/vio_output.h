@@ -34,6 +34,13 @@ class VioReport {
   double cpu_ms = 0.0, frontend_ms = 0.0, init_ms = 0.0, frame_ms = 0.0;
   int window_points = 0, window_lines = 0;
   bool extrinsic_estimated = false;
+  // Every keyframe the window solved (frame, time, its newest IMU factor's whitened chi2), in
+  // order.
+  struct KeyframeChi2 {
+    int frame = 0;
+    double time = 0.0, chi2 = 0.0;
+  };
+  std::vector<KeyframeChi2> keyframe_chi2;
 
  private:
   std::vector<nlohmann::json> per_frame_;
@@ -59,6 +66,13 @@ constexpr double kLongImuOnlyStretchS = 1.0;
 // The warnings on frames without a visual update (stderr, --quiet or not): the long stretches
 // with their frame ranges, and the share when over max_share; returns kExitImuOnly then, else 0.
 int WarnImuOnly(const odometry::VioStatistics& stats, double max_share);
+
+// The keyframes whose IMU factor's whitened chi2 exceeds max_chi2 (the IMU and the vision
+// disagree: a start aligned on a wrong scale, a diverged window): a warning naming them (stderr,
+// --quiet or not); returns kExitImuOnly when there is one, else 0.
+std::vector<VioReport::KeyframeChi2> InconsistentKeyframes(const VioReport& report,
+                                                           double max_chi2);
+int WarnInconsistent(const std::vector<VioReport::KeyframeChi2>& inconsistent, double max_chi2);
 
 // The refined trajectory (`--out`) or the online poses (`--out-online`) as TUM, with a comment
 // saying which; on the dataset's clock when the input has one (EuRoC: the stamps of its files,
