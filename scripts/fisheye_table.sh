@@ -3,22 +3,29 @@
 # yaw alignment) and VO ATE (Sim(3)) on the same scene, trajectory and seed, with the default
 # pinhole camera, the Kannala-Brandt fisheye with points in the full image (raw pixels) and with
 # points in the segments' undistorted view; points + lines and points only.
-# Usage: scripts/fisheye_table.sh PLUCKER OUT_DIR [vio|vo|both] [SCENES] [FRAMES] [SEED]
-# (VO on 600 frames takes minutes a run on the shared machine; VIO seconds.)
+# Usage: scripts/fisheye_table.sh PLUCKER OUT_DIR [vio|vo|both] [SCENES] [FRAMES] [SEEDS] [CAMERAS]
+# SEEDS: one or more, e.g. "1 2 3 4 5" (a row per seed); CAMERAS: a subset of
+# "pinhole kb-full kb-view". (VO on 600 frames takes minutes a run on the shared machine; VIO
+# seconds, the fisheye view corridor about a minute of CPU.) VIO_FLAGS / VO_FLAGS (environment):
+# more flags for every run, e.g. VIO_FLAGS="--config my.yaml".
 set -euo pipefail
 P=$1
 OUT=$2
 WHAT=${3:-both}
 SCENES=${4:-"room corridor"}
 FRAMES=${5:-600}
-SEED=${6:-1}
+SEEDS=${6:-1}
+CAMERAS=${7:-"pinhole kb-full kb-view"}
+read -r -a vio_flags <<<"${VIO_FLAGS:-}"
+read -r -a vo_flags <<<"${VO_FLAGS:-}"
 mkdir -p "$OUT"
 ate() { "$P" eval ate --gt "$1" --est "$2" --align "$3" | awk '/ATE translation/ {print $5}'; }
-echo "| scene | camera | points | lines | VIO ATE [m] | VO ATE [m] |"
-echo "|---|---|---|---|---|---|"
+echo "| scene | seed | camera | points | lines | VIO ATE [m] | VO ATE [m] |"
+echo "|---|---|---|---|---|---|---|"
 for scene in $SCENES; do
-  for cam in pinhole kb-full kb-view; do
-    d="$OUT/${scene}_${cam}"
+  for SEED in $SEEDS; do
+  for cam in $CAMERAS; do
+    d="$OUT/${scene}_${SEED}_${cam}"
     case $cam in
       pinhole) flags=() ;;
       kb-full) flags=(--camera-model kb --points full) ;;
@@ -31,12 +38,13 @@ for scene in $SCENES; do
       extra=()
       [ "$lines" = no ] && extra=(--no-lines)
       vio=- vo=-
-      [ "$WHAT" != vo ] && vio=$("$P" vio --features "$d" --out "$d.vio.$lines.tum" --quiet "${extra[@]}" >/dev/null 2>&1 &&
+      [ "$WHAT" != vo ] && vio=$("$P" vio --features "$d" --out "$d.vio.$lines.tum" --quiet "${extra[@]}" "${vio_flags[@]}" >/dev/null 2>&1 &&
         ate "$d.gt.tum" "$d.vio.$lines.tum" posyaw || echo failed)
-      [ "$WHAT" != vio ] && vo=$("$P" vo --features "$d" --out "$d.vo.$lines.txt" --quiet "${extra[@]}" >/dev/null 2>&1 &&
+      [ "$WHAT" != vio ] && vo=$("$P" vo --features "$d" --out "$d.vo.$lines.txt" --quiet "${extra[@]}" "${vo_flags[@]}" >/dev/null 2>&1 &&
         ate "$d/trajectory.txt" "$d.vo.$lines.txt" sim3 || echo failed)
       pts=$([ "$cam" = kb-view ] && echo view || ([ "$cam" = kb-full ] && echo full || echo image))
-      echo "| $scene | ${cam%%-*} | $pts | $lines | $vio | $vo |"
+      echo "| $scene | $SEED | ${cam%%-*} | $pts | $lines | $vio | $vo |"
     done
+  done
   done
 done

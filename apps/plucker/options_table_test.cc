@@ -189,7 +189,19 @@ TEST(OptionsTable, SharedVisualOptionsAreOneOptionInVoAndVio) {
     EXPECT_EQ(i->doc, v.doc) << v.key;
     EXPECT_EQ(i->range, v.range) << v.key;
   }
-  EXPECT_EQ(shared, 13);  // use_lines, 6 window.*, 3 points.*, 3 lines.*
+  EXPECT_EQ(shared, 14);  // use_lines, 7 window.*, 3 points.*, 3 lines.*
+}
+
+TEST(OptionsTable, VioMinLineViewsReachesTheWindow) {
+  VioConfig c;
+  EXPECT_EQ(odometry::WindowOptions(c.odometry, {}).min_line_views, 2);  // the default: main's
+  VioOptions().Apply("window:\n  min_line_views: 3\n", "x.yaml", &c);
+  EXPECT_EQ(c.odometry.min_line_views, 3);
+  EXPECT_EQ(odometry::WindowOptions(c.odometry, {}).min_line_views, 3);
+  EXPECT_EQ(ErrorOf(VioOptions(), "window:\n  min_line_views: 1\n"),
+            "bad.yaml: key 'window.min_line_views': value 1 out of range [2, 1000]");
+  c.odometry.min_line_views = 1;
+  EXPECT_NE(c.odometry.Problem().find("min_line_views >= 2"), std::string::npos);
 }
 
 TEST(OptionsTable, UseLinesSetsEveryLineSwitch) {

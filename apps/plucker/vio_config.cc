@@ -94,6 +94,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("window.keyframe_max_rotation_deg", "deg",
           "keyframe when the frame has turned this much from the newest one (0: off)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
+  t.Value(SharedVisualOption("window.min_line_views"),
+          PLUCKER_OPTION_MEMBER(odometry.min_line_views));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
   t.Value("inertial.max_imu_factor_span_s", "s",

@@ -16,6 +16,7 @@ const std::vector<OptionSpec>& SharedSpecs() {
       {"window.min_tracked", "", "keyframe under this many tracked landmarks", AtLeast(0)},
       {"window.min_tracked_ratio", "", "keyframe under this share of the observations tracked",
        Between(0.0, 1.0)},
+      {"window.min_line_views", "keyframes", "keyframes observing a new line", Between(2, 1000)},
       {"points.max_tracks", "", "live point tracks kept (images)", AtLeast(1)},
       {"points.min_distance_px", "px", "between point tracks (images)", AtLeast(0.0)},
       {"points.detect_below_share", "",
@@ -81,7 +82,7 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
       });
   t.Value("window.line_min_angle_deg", "deg", "angle between the planes of a new line",
           Between(0.0, 90.0), PLUCKER_OPTION_MEMBER(window.line_triangulation.min_plane_angle_deg));
-  t.Value("window.min_line_views", "keyframes", "keyframes observing a new line", Between(2, 1000),
+  t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(window.min_line_views));
   t.Value("window.max_new_line_rms_px", "px",
           "RMS endpoint-to-line distance of a new line (0: no test)", AtLeast(0.0),

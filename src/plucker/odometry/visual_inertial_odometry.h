@@ -61,6 +61,11 @@ struct VisualInertialOdometryOptions {
   // dynamic start's trajectory was 12-25 % short; 10 deg fixes it, but costs the 10 Hz corridor
   // with lines (seed 1: 0.074 -> 0.104 m), so it is opt-in (docs/vio.md).
   double keyframe_max_rotation_deg = 0.0;
+  // Keyframes observing a segment track before its line is triangulated
+  // (window::SlidingWindowOptions::min_line_views). A two-view line is exactly determined (two
+  // planes always meet): its errors are not averaged, and on the fisheye's 107 deg view
+  // (f = 189 px) those lines made the VIO worse than points only (docs/results/fisheye.md).
+  int min_line_views = 2;
   double max_imu_factor_span_s = 1.0;
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
