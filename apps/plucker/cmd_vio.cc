@@ -6,6 +6,7 @@
 // refined trajectory (the frames before the start backfilled); --out-online: the poses as returned
 // frame by frame.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -158,6 +159,10 @@ int Run(const VioArgs& a) {
     nlohmann::json frames = nlohmann::json::array();
     for (const VioReport::KeyframeChi2& k : inconsistent) frames.push_back(k.frame);
     out["summary"]["inconsistent_keyframes"] = inconsistent.size();
+    double largest = 0.0;
+    for (const VioReport::KeyframeChi2& k : report.keyframe_chi2)
+      largest = std::max(largest, k.chi2);
+    out["summary"]["largest_keyframe_imu_chi2"] = largest;
     out["summary"]["inconsistent_keyframe_frames"] = frames;
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }

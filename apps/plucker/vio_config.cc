@@ -184,8 +184,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           Range{0.0, 1.0}, PLUCKER_OPTION_MEMBER(max_imu_only_share));
   t.Value("checks.max_keyframe_imu_chi2", "",
           "exit code 3 when a keyframe's IMU factor has a larger whitened squared residual (15 "
-          "degrees of freedom): the IMU and the vision disagree",
-          Above(0.0), PLUCKER_OPTION_MEMBER(max_keyframe_imu_chi2));
+          "degrees of freedom): the IMU and the vision disagree (0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(max_keyframe_imu_chi2));
   return t.Take();
 }
 

@@ -241,6 +241,7 @@ int WarnImuOnly(const odometry::VioStatistics& stats, double max_share) {
 std::vector<VioReport::KeyframeChi2> InconsistentKeyframes(const VioReport& report,
                                                            double max_chi2) {
   std::vector<VioReport::KeyframeChi2> out;
+  if (max_chi2 == 0.0) return out;  // off
   for (const VioReport::KeyframeChi2& k : report.keyframe_chi2)
     if (!(k.chi2 <= max_chi2)) out.push_back(k);
   return out;

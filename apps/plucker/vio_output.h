@@ -68,8 +68,8 @@ constexpr double kLongImuOnlyStretchS = 1.0;
 int WarnImuOnly(const odometry::VioStatistics& stats, double max_share);
 
 // The keyframes whose IMU factor's whitened chi2 exceeds max_chi2 (the IMU and the vision
-// disagree: a start aligned on a wrong scale, a diverged window): a warning naming them (stderr,
-// --quiet or not); returns kExitImuOnly when there is one, else 0.
+// disagree: a start aligned on a wrong scale, a diverged window; none when max_chi2 is 0, off):
+// a warning naming them (stderr, --quiet or not); returns kExitImuOnly when there is one, else 0.
 std::vector<VioReport::KeyframeChi2> InconsistentKeyframes(const VioReport& report,
                                                            double max_chi2);
 int WarnInconsistent(const std::vector<VioReport::KeyframeChi2>& inconsistent, double max_chi2);
