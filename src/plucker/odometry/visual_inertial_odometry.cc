@@ -34,8 +34,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       (init_accel_bias && !init_accel_bias->allFinite()) ||
       (init_gyro_bias && !init_gyro_bias->allFinite())) {
     return "an option is out of range (window >= 2, min_line_views >= 2, init_min_keyframes >= 4, "
-           "init_max_keyframes "
-           ">= init_min_keyframes, sigmas and intervals > 0, tracking_velocity_sigma >= 0, "
+           "init_max_keyframes >= init_min_keyframes, sigmas and intervals > 0, "
+           "tracking_velocity_sigma >= 0, "
            "init_ba_iterations >= 0, point_min_distance_px >= 0, 0 < point_detect_below_share "
            "<= 1, 0 < line_detection_scale <= 1, line_flow_samples in "
            "[0, 1000], init_accel_bias and init_gyro_bias finite)";
