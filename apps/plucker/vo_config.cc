@@ -89,6 +89,9 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(window.max_new_line_rms_px));
   t.Value("window.point_min_parallax_deg", "deg", "parallax of a new point", Between(0.0, 90.0),
           PLUCKER_OPTION_MEMBER(window.point_triangulation.min_parallax_deg));
+  t.Value("window.start_scale_sigma", "",
+          "relative sigma holding the start's scale until the first marginalization (0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(window.start_scale_sigma));
   t.Value("init.max_gap", "frames", "frames searched for the second view of the start", AtLeast(1),
           PLUCKER_OPTION_MEMBER(start.max_init_gap));
   t.Value("init.min_common_tracks", "", "point tracks seen in both views of a start", AtLeast(5),

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -193,6 +194,38 @@ TEST(MonocularOdometry, FrameByFrameEqualsTheWholeRun) {
   const VoRun again = Feed(s.rig.K, in, 30, Options(5));
   for (int i = 0; i < 30; ++i)
     EXPECT_TRUE(SamePose(again.refined[i].T_w_c, whole.refined[i].T_w_c));
+}
+
+// window.start_scale_sigma: the distance between the first window's two oldest keyframes stays
+// at the start's value until the first marginalization (none in 30 frames with 40 keyframes);
+// without it the solves after the start move it.
+TEST(MonocularOdometry, StartScaleSigmaHoldsTheStartsScale) {
+  const sim::CameraSimulation s = Simulate(30);
+  const std::vector<FrameInput> in = Inputs(s);
+  for (const double sigma : {0.0, 1e-6}) {
+    MonocularOdometryOptions o = Options(5);
+    o.window.window_size = 40;
+    o.window.start_scale_sigma = sigma;
+    MonocularOdometry vo(s.rig.K, o);
+    for (const FrameInput& f : in) vo.AddFrame(f);
+    vo.Finish();
+    ASSERT_EQ(vo.Maps().size(), 1u);
+    const std::vector<int>& kf = vo.Maps()[0].keyframes;
+    ASSERT_GE(kf.size(), 2u);
+    const auto& t = vo.Trajectory();
+    const double d0 = (t[kf[1]].T_w_c.translation() - t[kf[0]].T_w_c.translation()).norm();
+    const std::vector<SE3d> poses = vo.map()->KeyframePoses();
+    ASSERT_GT(poses.size(), kf.size() + 2);  // keyframes after the start were solved
+    const double d = (poses[1].translation() - poses[0].translation()).norm();
+    ASSERT_GT(d0, 0.0);
+    if (sigma > 0.0)
+      EXPECT_NEAR(d / d0, 1.0, 1e-5) << "held";
+    else
+      EXPECT_GT(std::abs(d / d0 - 1.0), 1e-4) << "free";
+  }
+  window::SlidingWindowOptions bad;
+  bad.start_scale_sigma = -1.0;
+  EXPECT_THROW(window::SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
 TEST(MonocularOdometry, RejectsBadOptions) {

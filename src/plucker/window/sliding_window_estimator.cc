@@ -31,6 +31,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     throw std::invalid_argument("SlidingWindowEstimator: keyframe_max_rotation_deg < 0");
   if (options.T_c0_c1 && options.inertial)
     throw std::invalid_argument("SlidingWindowEstimator: stereo is not for the inertial mode");
+  if (!(options.start_scale_sigma >= 0.0) || !std::isfinite(options.start_scale_sigma))
+    throw std::invalid_argument("SlidingWindowEstimator: start_scale_sigma < 0");
   if (options.min_line_views < 2 || !(options.max_new_line_rms_px >= 0.0))
     throw std::invalid_argument(
         "SlidingWindowEstimator: min_line_views < 2 or max_new_line_rms_px < 0");

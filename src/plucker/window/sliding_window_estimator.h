@@ -256,6 +256,13 @@ struct SlidingWindowOptions {
   // When motion-only tracking fails (too few inliers from the prediction, e.g. after a jump):
   // PnP RANSAC (OpenCV EPnP) of the frame's point tracks against the window's 3D points, then
   // tracking again from that pose.
+  // Until the first marginalization only the oldest keyframe holds the gauge, and the scale is
+  // free: with a start on a short baseline it wandered by +-10 % from solve to solve on the MH_05
+  // take-off, and the first prior froze it (docs/vo.md, "Scale drift on MH_05"). With this
+  // (> 0), the distance between the two oldest keyframes is held at its value after the start by
+  // a prior of this relative standard deviation until the first prior exists. 0 (default): off.
+  // Not in the inertial mode (gravity and the IMU hold the scale there).
+  double start_scale_sigma = 0.0;
   bool pnp_fallback = true;
   double pnp_threshold_px = 3.0;  // RANSAC inlier threshold
   int pnp_min_inliers = 10;

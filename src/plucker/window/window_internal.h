@@ -164,6 +164,8 @@ struct SlidingWindowEstimator::Impl {
   // SlidingWindowOptions::prior_blocks: how the oldest keyframe leaves the window.
   std::unique_ptr<internal::MarginalizationStrategy> marginalization;
   SE3d last_T_w_c, prev_T_w_c;
+  // SlidingWindowOptions::start_scale_sigma: the distance held (0: not yet taken).
+  double start_distance = 0.0;
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
   std::set<int> retired_points, retired_lines;
   std::vector<std::unique_ptr<internal::RetainedPose>> retained;  // oldest first
@@ -316,6 +318,7 @@ struct SlidingWindowEstimator::Impl {
                                    const internal::Prediction& prediction, bool* pnp_tried) const;
   // The pose from PnP RANSAC of the frame's point tracks against the window's points, or nullopt.
   std::optional<SE3d> PnpPose(const Frame& f) const;
+  void HoldStartScale(ceres::Problem* problem);
 
   // --- window_keyframe_policy.cc: decide ------------------------------------------------------
   double Parallax(const Frame& f) const;

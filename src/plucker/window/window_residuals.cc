@@ -12,6 +12,21 @@
 
 namespace plucker {
 namespace window {
+namespace {
+
+// (|t_1 - t_0| - d0) / sigma on a pose block (7 values, translation at 4..6), t_0 held.
+struct StartScaleResidual {
+  Eigen::Vector3d t0;
+  double d0, inv_sigma;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    const T dx = pose[4] - T(t0.x()), dy = pose[5] - T(t0.y()), dz = pose[6] - T(t0.z());
+    r[0] = (ceres::sqrt(dx * dx + dy * dy + dz * dz) - T(d0)) * T(inv_sigma);
+    return true;
+  }
+};
+
+}  // namespace
 
 using internal::FirstEstimateCost;
 using internal::Frame;
@@ -191,9 +206,26 @@ int SlidingWindowEstimator::Impl::BuildProblem(ceres::Problem* problem, bool hol
       problem->SetManifold(keyframes.front()->pose, &roll_pitch_manifold);
     } else {
       problem->SetParameterBlockConstant(keyframes.front()->pose);
+      HoldStartScale(problem);
     }
   }
   return n;
+}
+
+// SlidingWindowOptions::start_scale_sigma: while the oldest keyframe holds the gauge, the
+// distance of the second oldest to it is held at its value of the first solve with a third
+// keyframe (the start's, as tracking moves neither), so that the scale is held too.
+void SlidingWindowEstimator::Impl::HoldStartScale(ceres::Problem* problem) {
+  if (!(opt.start_scale_sigma > 0.0) || opt.inertial || keyframes.size() < 3 ||
+      !problem->HasParameterBlock(keyframes[1]->pose))
+    return;
+  const Eigen::Vector3d t0 = keyframes[0]->T_w_c().translation();
+  if (!(start_distance > 0.0)) start_distance = (keyframes[1]->T_w_c().translation() - t0).norm();
+  if (!(start_distance > 0.0) || !std::isfinite(start_distance)) return;
+  problem->AddResidualBlock(
+      new ceres::AutoDiffCostFunction<StartScaleResidual, 1, 7>(new StartScaleResidual{
+          t0, start_distance, 1.0 / (opt.start_scale_sigma * start_distance)}),
+      nullptr, keyframes[1]->pose);
 }
 
 ceres::Problem::Options SlidingWindowEstimator::Impl::ProblemOptions() {
