@@ -11,16 +11,13 @@ endpoint outside: the observation was clipped by the image border). Prints the r
 (the pixel sigma it was drawn with, if the model is right) overall, by clipped endpoints, and
 the share of observations by angle off the optical axis. numpy only.
 """
+import os
 import sys
 
 import numpy as np
 
-
-def rotation(qx, qy, qz, qw):
-    x, y, z, w = qx, qy, qz, qw
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ate_orientation_offset import rotation  # noqa: E402  (quaternion x y z w -> matrix)
 
 
 def rows(path):
