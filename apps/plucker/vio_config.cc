@@ -119,6 +119,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "dynamic start: after the first alignment, this many keyframes more, aligned again "
           "(0: off)",
           AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_extend_keyframes));
+  t.Value("init.extend_min_rotation_deg", "deg",
+          "dynamic start: the extension waits until the body has turned this much from its "
+          "first keyframe (at most init.max_keyframes; 0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_extend_min_rotation_deg));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

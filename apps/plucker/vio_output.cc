@@ -35,6 +35,7 @@ nlohmann::json EventJson(const odometry::VioInitEvent& e) {
     j["message"] = e.message;
   }
   if (!e.reason.empty()) j["reason"] = e.reason;
+  if (e.event == "extension") j["keyframes"] = e.keyframes;
   if (e.event == "alignment") {
     j["keyframes"] = e.keyframes;
     j["scale"] = e.scale;

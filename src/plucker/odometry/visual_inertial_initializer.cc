@@ -66,6 +66,9 @@ struct VisualInertialInitializer::Impl {
   // extend_until keyframes; the start falls back to it when the run ends or a later one fails.
   std::optional<VioStart> aligned;
   int extend_until = 0;
+  // init_extend_min_rotation_deg: the largest angle the body has turned from the run's first
+  // keyframe to any later one (the gyroscope at the first alignment's gyro bias).
+  double turned_deg = 0.0;
 
   double imu_gap_s = 0.0;  // the window's (WindowOptions(o, calib).inertial->imu_gap_s)
 
@@ -76,6 +79,9 @@ struct VisualInertialInitializer::Impl {
   }
   bool Extended(const std::vector<window::FrameInput>& frames,
                 const std::vector<sensor::ImuSample>& imu);
+  void UpdateTurn(const std::vector<window::FrameInput>& frames,
+                  const std::vector<sensor::ImuSample>& imu, std::size_t from);
+  bool ExtensionDone();
   bool Finish();
   bool StaticTest(const std::vector<window::FrameInput>& frames,
                   const std::vector<sensor::ImuSample>& imu,
@@ -261,6 +267,37 @@ bool VisualInertialInitializer::Impl::Extended(const std::vector<window::FrameIn
   return Finish();
 }
 
+// The turn of keyframes [from, newest] against the run's first keyframe, into turned_deg.
+void VisualInertialInitializer::Impl::UpdateTurn(const std::vector<window::FrameInput>& frames,
+                                                 const std::vector<sensor::ImuSample>& imu,
+                                                 std::size_t from) {
+  const double t0 = frames[keyframes.front()].time;
+  sensor::ImuBias bias;
+  bias.gyro = aligned->state_first.bias.gyro;
+  for (std::size_t k = std::max<std::size_t>(from, 1); k < keyframes.size(); ++k) {
+    const ImuPreintegration p =
+        PreintegrateSamples(imu, t0, frames[keyframes[k]].time, bias, calib.imu, imu_gap_s);
+    const double deg = Eigen::AngleAxisd(p.DeltaR()).angle() * 180.0 / M_PI;
+    turned_deg = std::max(turned_deg, deg);
+  }
+}
+
+// Whether the extension after the first alignment has ended: init_extend_keyframes more
+// keyframes and, with init_extend_min_rotation_deg, the turn (or init_max_keyframes reached).
+bool VisualInertialInitializer::Impl::ExtensionDone() {
+  const int n = static_cast<int>(keyframes.size());
+  if (n < extend_until) return false;
+  if (!(o.init_extend_min_rotation_deg > 0.0)) return true;
+  if (turned_deg < o.init_extend_min_rotation_deg && n < o.init_max_keyframes) return false;
+  VioInitEvent e;
+  e.event = "extension";
+  e.frame = f;
+  e.keyframes = n;
+  e.reason = "turned " + std::to_string(turned_deg) + " deg";
+  events.push_back(e);
+  return true;
+}
+
 // The run from (i, j) gave no alignment: a later start frame.
 void VisualInertialInitializer::Impl::Restart() {
   VioInitEvent e;
@@ -313,13 +350,15 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
       keyframes.push_back(f);
       bool hopeless = false;
       if (aligned) {
-        if (static_cast<int>(keyframes.size()) >= extend_until) return Extended(frames, imu);
+        if (o.init_extend_min_rotation_deg > 0.0) UpdateTurn(frames, imu, keyframes.size() - 1);
+        if (ExtensionDone()) return Extended(frames, imu);
       } else if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
                  TryAlignment(frames, imu, &hopeless)) {
-        if (o.init_extend_keyframes == 0) return Finish();
         aligned = start;
         extend_until = std::min(static_cast<int>(keyframes.size()) + o.init_extend_keyframes,
                                 o.init_max_keyframes);
+        if (o.init_extend_min_rotation_deg > 0.0) UpdateTurn(frames, imu, 1);
+        if (ExtensionDone()) return Finish();  // the first alignment
       }
       if (hopeless) {
         Restart();

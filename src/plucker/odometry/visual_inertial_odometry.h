@@ -82,6 +82,12 @@ struct VisualInertialOdometryOptions {
   // adjustment, init_ba_iterations) sees more of the motion; the first alignment is kept when
   // the run ends or the second fails. 0: off, the default (docs/results/vio.md, MH_05).
   int init_extend_keyframes = 0;
+  // The extension above waits instead (or also) for the body to turn this angle from the run's
+  // first keyframe (the gyroscope, at the first alignment's gyro bias): the start's bundle
+  // adjustment separates the gravity tilt from the accelerometer bias only once the body has
+  // turned. A start that has turned as much at its first alignment is not extended; the run
+  // is aligned again at init_max_keyframes if it never turns that much. 0: off, the default.
+  double init_extend_min_rotation_deg = 0.0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
@@ -226,7 +232,7 @@ struct VioStatistics {
 
 // What the initialisation did, for reports.
 struct VioInitEvent {
-  std::string event;  // static_test | wait | alignment | restart
+  std::string event;  // static_test | wait | alignment | extension | restart
   int frame = -1;     // -1: none
   std::string status, message, reason;
   int keyframes = 0;
