@@ -121,8 +121,12 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_extend_keyframes));
   t.Value("init.extend_min_rotation_deg", "deg",
           "dynamic start: the extension waits until the body has turned this much from its "
-          "first keyframe (at most init.max_keyframes; 0: off)",
+          "first keyframe, then aligns again (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_extend_min_rotation_deg));
+  t.Value("init.extend_max_seconds", "s",
+          "dynamic start: with init.extend_min_rotation_deg, the first alignment is kept when "
+          "the turn has not come this long after it (0: no bound)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_extend_max_seconds));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

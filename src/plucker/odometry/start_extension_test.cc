@@ -1,7 +1,8 @@
 // The dynamic start's extension by a turn (init_extend_min_rotation_deg,
 // visual_inertial_initializer.h) on a simulated room: a start that has turned as much at its first
 // alignment is that alignment, unchanged; else the run goes on to the first keyframe where the
-// body has turned that much (the true rotation checked against the threshold on both sides).
+// body has turned that much (the true rotation checked against the threshold on both sides);
+// one that does not turn within init_extend_max_seconds keeps its first alignment.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -101,6 +102,15 @@ TEST(StartExtension, WaitsForTheTurnAndOnlyThen) {
   EXPECT_GT(TrueTurnDeg(in, more.start, more.start.second), threshold - 1.0);
   EXPECT_LT(TrueTurnDeg(in, more.start, more.start.candidates.back()), threshold + 1.0);
   EXPECT_EQ(more.start.T_w_b.size(), static_cast<std::size_t>(more.start.second) + 1);
+
+  // A turn that does not come within init_extend_max_seconds: the first alignment.
+  o.init_extend_min_rotation_deg = 1e4;
+  o.init_extend_max_seconds = 1.0;
+  const InitRun never = RunInitializer(o, in);
+  ASSERT_TRUE(never.done);
+  EXPECT_TRUE(HasExtensionEvent(never));
+  EXPECT_EQ(never.start.second, first.start.second);
+  EXPECT_EQ(never.start.state_second.v_w, first.start.state_second.v_w);
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ struct VisualInertialInitializer::Impl {
                 const std::vector<sensor::ImuSample>& imu);
   void UpdateTurn(const std::vector<window::FrameInput>& frames,
                   const std::vector<sensor::ImuSample>& imu, std::size_t from);
-  bool ExtensionDone();
+  bool ExtensionDone(const std::vector<window::FrameInput>& frames, bool* keep_first);
+  bool KeepFirst();
   bool Finish();
   bool StaticTest(const std::vector<window::FrameInput>& frames,
                   const std::vector<sensor::ImuSample>& imu,
@@ -284,18 +285,40 @@ void VisualInertialInitializer::Impl::UpdateTurn(const std::vector<window::Frame
 
 // Whether the extension after the first alignment has ended: init_extend_keyframes more
 // keyframes and, with init_extend_min_rotation_deg, the turn (or init_max_keyframes reached).
-bool VisualInertialInitializer::Impl::ExtensionDone() {
+// *keep_first: the turn did not come (init_max_keyframes or init_extend_max_seconds reached).
+bool VisualInertialInitializer::Impl::ExtensionDone(const std::vector<window::FrameInput>& frames,
+                                                    bool* keep_first) {
+  *keep_first = false;
   const int n = static_cast<int>(keyframes.size());
   if (n < extend_until) return false;
   if (!(o.init_extend_min_rotation_deg > 0.0)) return true;
-  if (turned_deg < o.init_extend_min_rotation_deg && n < o.init_max_keyframes) return false;
+  if (turned_deg < o.init_extend_min_rotation_deg) {
+    const double waited = frames[keyframes.back()].time - frames[aligned->second].time;
+    *keep_first = n >= o.init_max_keyframes ||
+                  (o.init_extend_max_seconds > 0.0 && waited >= o.init_extend_max_seconds);
+    if (!*keep_first) return false;
+  }
   VioInitEvent e;
   e.event = "extension";
   e.frame = f;
   e.keyframes = n;
-  e.reason = "turned " + std::to_string(turned_deg) + " deg";
+  e.reason = "turned " + std::to_string(turned_deg) + " deg" +
+             (*keep_first ? ", not enough: the first alignment" : "");
   events.push_back(e);
   return true;
+}
+
+// The extended run ended (lost, or the input did) before the extension did: the first alignment.
+bool VisualInertialInitializer::Impl::KeepFirst() {
+  VioInitEvent e;
+  e.event = "extension";
+  e.frame = f;
+  e.keyframes = static_cast<int>(keyframes.size());
+  e.reason =
+      "the run ended after turning " + std::to_string(turned_deg) + " deg: the first alignment";
+  events.push_back(e);
+  start = *aligned;
+  return Finish();
 }
 
 // The run from (i, j) gave no alignment: a later start frame.
@@ -334,13 +357,13 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
     const bool running = static_cast<int>(keyframes.size()) <= o.init_max_keyframes;
     if (running && f >= n && !end) return false;  // wait for frame f
     if (!running || f >= n || !Covered(imu, frames[f].time)) {
-      if (aligned) return Finish();
+      if (aligned) return KeepFirst();
       Restart();
       continue;
     }
     const window::WindowFrameResult r = run->AddFrame(frames[f]);
     if (!r.ok) {
-      if (aligned) return Finish();
+      if (aligned) return KeepFirst();
       Restart();
       continue;
     }
@@ -351,14 +374,19 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
       bool hopeless = false;
       if (aligned) {
         if (o.init_extend_min_rotation_deg > 0.0) UpdateTurn(frames, imu, keyframes.size() - 1);
-        if (ExtensionDone()) return Extended(frames, imu);
+        bool keep_first = false;
+        if (ExtensionDone(frames, &keep_first)) {
+          if (keep_first) return Finish();  // start is the first alignment
+          return Extended(frames, imu);
+        }
       } else if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
                  TryAlignment(frames, imu, &hopeless)) {
         aligned = start;
         extend_until = std::min(static_cast<int>(keyframes.size()) + o.init_extend_keyframes,
                                 o.init_max_keyframes);
         if (o.init_extend_min_rotation_deg > 0.0) UpdateTurn(frames, imu, 1);
-        if (ExtensionDone()) return Finish();  // the first alignment
+        bool keep_first = false;
+        if (ExtensionDone(frames, &keep_first)) return Finish();  // the first alignment
       }
       if (hopeless) {
         Restart();

@@ -85,9 +85,12 @@ struct VisualInertialOdometryOptions {
   // The extension above waits instead (or also) for the body to turn this angle from the run's
   // first keyframe (the gyroscope, at the first alignment's gyro bias): the start's bundle
   // adjustment separates the gravity tilt from the accelerometer bias only once the body has
-  // turned. A start that has turned as much at its first alignment is not extended; the run
-  // is aligned again at init_max_keyframes if it never turns that much. 0: off, the default.
+  // turned. A start that has turned as much at its first alignment is not extended; one that
+  // does not turn as much within init_max_keyframes keyframes or init_extend_max_seconds
+  // (after the first alignment's newest keyframe; 0: no bound) keeps its first alignment.
+  // 0: off, the default (docs/results/vio.md, MH_05).
   double init_extend_min_rotation_deg = 0.0;
+  double init_extend_max_seconds = 0.0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
