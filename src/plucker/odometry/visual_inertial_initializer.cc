@@ -284,8 +284,8 @@ void VisualInertialInitializer::Impl::UpdateTurn(const std::vector<window::Frame
 }
 
 // Whether the extension after the first alignment has ended: init_extend_keyframes more
-// keyframes and, with init_extend_min_rotation_deg, the turn (or init_max_keyframes reached).
-// *keep_first: the turn did not come (init_max_keyframes or init_extend_max_seconds reached).
+// keyframes and, with init_extend_min_rotation_deg, the turn; *keep_first: the turn did not come
+// (init_max_keyframes or init_extend_max_seconds reached), the start is the first alignment.
 bool VisualInertialInitializer::Impl::ExtensionDone(const std::vector<window::FrameInput>& frames,
                                                     bool* keep_first) {
   *keep_first = false;
