@@ -96,6 +96,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
   t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(odometry.min_line_views));
+  t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
+          PLUCKER_OPTION_MEMBER(odometry.two_view_line_sigma_scale));
+  t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
+         PLUCKER_OPTION_MEMBER(odometry.recheck_two_view_lines));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
   t.Value("inertial.max_imu_factor_span_s", "s",
