@@ -123,6 +123,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "dynamic start: after the first alignment, this many keyframes more, aligned again "
           "(0: off)",
           AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_extend_keyframes));
+  t.Value("init.two_view_line_sigma_scale", "",
+          "dynamic start: window.two_view_line_sigma_scale of its vision-only window (0: that)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_two_view_line_sigma_scale));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

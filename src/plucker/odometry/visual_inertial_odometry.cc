@@ -20,6 +20,7 @@ const char* const kOnlineTrajectoryNote =
 
 std::string VisualInertialOdometryOptions::Problem() const {
   if (window < 2 || iterations < 1 || min_line_views < 2 || !(two_view_line_sigma_scale >= 1.0) ||
+      !(init_two_view_line_sigma_scale == 0.0 || init_two_view_line_sigma_scale >= 1.0) ||
       init_min_keyframes < 4 || init_max_keyframes < init_min_keyframes ||
       !(max_imu_factor_span_s > 0.0) || !(gyro_bias_prior_sigma > 0.0) ||
       !(accel_bias_prior_sigma > 0.0) || !(velocity_prior_sigma > 0.0) ||
@@ -33,8 +34,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       line_flow_samples < 0 || line_flow_samples > 1000 ||
       (init_accel_bias && !init_accel_bias->allFinite()) ||
       (init_gyro_bias && !init_gyro_bias->allFinite())) {
-    return "an option is out of range (window >= 2, min_line_views >= 2, two_view_line_sigma_scale "
-           ">= 1, "
+    return "an option is out of range (window >= 2, min_line_views >= 2, "
+           "two_view_line_sigma_scale >= 1, init_two_view_line_sigma_scale 0 or >= 1, "
            "init_min_keyframes >= 4, "
            "init_max_keyframes >= init_min_keyframes, sigmas and intervals > 0, "
            "tracking_velocity_sigma >= 0, "

@@ -86,6 +86,10 @@ struct VisualInertialOdometryOptions {
   // adjustment, init_ba_iterations) sees more of the motion; the first alignment is kept when
   // the run ends or the second fails. 0: off, the default (docs/results/vio.md, MH_05).
   int init_extend_keyframes = 0;
+  // The dynamic start's vision-only window weighs its two-view lines with this
+  // (window::SlidingWindowOptions::two_view_line_sigma_scale; two_view_line_sigma_scale applies
+  // when this is 0, the default).
+  double init_two_view_line_sigma_scale = 0.0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
