@@ -189,7 +189,7 @@ TEST(OptionsTable, SharedVisualOptionsAreOneOptionInVoAndVio) {
     EXPECT_EQ(i->doc, v.doc) << v.key;
     EXPECT_EQ(i->range, v.range) << v.key;
   }
-  EXPECT_EQ(shared, 14);  // use_lines, 7 window.*, 3 points.*, 3 lines.*
+  EXPECT_EQ(shared, 16);  // use_lines, 9 window.*, 3 points.*, 3 lines.*
 }
 
 TEST(OptionsTable, VioMinLineViewsReachesTheWindow) {
@@ -202,6 +202,28 @@ TEST(OptionsTable, VioMinLineViewsReachesTheWindow) {
             "bad.yaml: key 'window.min_line_views': value 1 out of range [2, 1000]");
   c.odometry.min_line_views = 1;
   EXPECT_NE(c.odometry.Problem().find("min_line_views >= 2"), std::string::npos);
+}
+
+TEST(OptionsTable, VioTwoViewLineOptionsReachTheWindow) {
+  VioConfig c;
+  const window::SlidingWindowOptions d = odometry::WindowOptions(c.odometry, {});
+  EXPECT_EQ(d.two_view_line_sigma_scale, 1.0);  // the defaults: main's
+  EXPECT_FALSE(d.recheck_two_view_lines);
+  EXPECT_EQ(c.odometry.init_two_view_line_sigma_scale, 0.0);
+  VioOptions().Apply(
+      "window:\n  two_view_line_sigma_scale: 3\n  recheck_two_view_lines: true\n"
+      "init:\n  two_view_line_sigma_scale: 10\n",
+      "x.yaml", &c);
+  const window::SlidingWindowOptions o = odometry::WindowOptions(c.odometry, {});
+  EXPECT_EQ(o.two_view_line_sigma_scale, 3.0);
+  EXPECT_TRUE(o.recheck_two_view_lines);
+  EXPECT_EQ(c.odometry.init_two_view_line_sigma_scale, 10.0);
+  EXPECT_TRUE(c.odometry.Problem().empty());
+  c.odometry.init_two_view_line_sigma_scale = 0.5;
+  EXPECT_NE(c.odometry.Problem().find("init_two_view_line_sigma_scale 0 or >= 1"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf(VioOptions(), "window:\n  two_view_line_sigma_scale: 0.5\n"),
+            "bad.yaml: key 'window.two_view_line_sigma_scale': value 0.5 out of range >= 1");
 }
 
 TEST(OptionsTable, UseLinesSetsEveryLineSwitch) {

@@ -96,6 +96,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
   t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(odometry.min_line_views));
+  t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
+          PLUCKER_OPTION_MEMBER(odometry.two_view_line_sigma_scale));
+  t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
+         PLUCKER_OPTION_MEMBER(odometry.recheck_two_view_lines));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
   t.Value("inertial.max_imu_factor_span_s", "s",
@@ -127,6 +131,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "dynamic start: with init.extend_min_rotation_deg, the first alignment is kept when "
           "the turn has not come this long after it (0: no bound)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_extend_max_seconds));
+  t.Value("init.two_view_line_sigma_scale", "",
+          "dynamic start: window.two_view_line_sigma_scale of its vision-only window (0: that)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_two_view_line_sigma_scale));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

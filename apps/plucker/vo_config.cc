@@ -17,6 +17,8 @@ const std::vector<OptionSpec>& SharedSpecs() {
       {"window.min_tracked_ratio", "", "keyframe under this share of the observations tracked",
        Between(0.0, 1.0)},
       {"window.min_line_views", "keyframes", "keyframes observing a new line", Between(2, 1000)},
+      {"window.two_view_line_sigma_scale", "",
+       "line sigma times this while two views only see the line (1: off)", AtLeast(1.0)},
       {"points.max_tracks", "", "live point tracks kept (images)", AtLeast(1)},
       {"points.min_distance_px", "px", "between point tracks (images)", AtLeast(0.0)},
       {"points.detect_below_share", "",
@@ -84,6 +86,10 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
           Between(0.0, 90.0), PLUCKER_OPTION_MEMBER(window.line_triangulation.min_plane_angle_deg));
   t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(window.min_line_views));
+  t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
+          PLUCKER_OPTION_MEMBER(window.two_view_line_sigma_scale));
+  t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
+         PLUCKER_OPTION_MEMBER(window.recheck_two_view_lines));
   t.Value("window.max_new_line_rms_px", "px",
           "RMS endpoint-to-line distance of a new line (0: no test)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(window.max_new_line_rms_px));
@@ -146,6 +152,8 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
 const char* const kUseLinesDoc = "lines: detected, tracked and in the window";
 const char* const kPriorOnPosesOnlyDoc =
     "the poses-only prior (fast) instead of the prior on the landmarks";
+const char* const kRecheckTwoViewLinesDoc =
+    "a two-view line triangulated again at its third keyframe (dropped if that fails)";
 
 const OptionSpec& SharedVisualOption(const std::string& key) {
   for (const OptionSpec& s : SharedSpecs())

@@ -32,6 +32,7 @@ const OptionSpec& SharedVisualOption(const std::string& key);
 // The keys of the shared bool options and their docs: "use_lines", "window.prior_on_poses_only".
 extern const char* const kUseLinesDoc;
 extern const char* const kPriorOnPosesOnlyDoc;
+extern const char* const kRecheckTwoViewLinesDoc;  // "window.recheck_two_view_lines"
 
 // "images: X" where the image default of `key` differs from the features one, else empty (the
 // notes of the defaults file and the docs table).

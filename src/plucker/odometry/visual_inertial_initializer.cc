@@ -180,6 +180,8 @@ bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInp
   vo.inertial.reset();
   vo.max_keyframe_interval_s = o.max_imu_factor_span_s;  // short IMU spans for the alignment
   vo.window_size = o.init_max_keyframes + 2;  // nothing is marginalized before the alignment
+  if (o.init_two_view_line_sigma_scale > 0.0)
+    vo.two_view_line_sigma_scale = o.init_two_view_line_sigma_scale;
   run = std::make_unique<window::SlidingWindowEstimator>(calib.camera.K, vo);
   const window::InitializationResult init =
       run->Initialize(frames[i], SE3d(), frames[j], tv.T_b_a.Inverse());

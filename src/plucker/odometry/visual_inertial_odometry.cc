@@ -19,22 +19,25 @@ const char* const kOnlineTrajectoryNote =
     "(docs/vio.md)";
 
 std::string VisualInertialOdometryOptions::Problem() const {
-  if (window < 2 || iterations < 1 || min_line_views < 2 || init_min_keyframes < 4 ||
-      init_max_keyframes < init_min_keyframes || !(max_imu_factor_span_s > 0.0) ||
-      !(gyro_bias_prior_sigma > 0.0) || !(accel_bias_prior_sigma > 0.0) ||
-      !(velocity_prior_sigma > 0.0) || !(init_max_rotation_disagreement_deg > 0.0) ||
-      !(init_gyro_bias_bound >= 0.0) || !(image_still_span_s >= 0.0) || init_ba_iterations < 0 ||
-      init_extend_keyframes < 0 || !(init_extend_min_rotation_deg >= 0.0) ||
-      !(init_extend_max_seconds >= 0.0) || !(init_ba_accel_bias_prior_sigma > 0.0) ||
-      !(init_ba_velocity_prior_sigma > 0.0) || !(keyframe_max_rotation_deg >= 0.0) ||
-      !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
-      !(point_min_distance_px >= 0.0) ||
+  if (window < 2 || iterations < 1 || min_line_views < 2 || !(two_view_line_sigma_scale >= 1.0) ||
+      !(init_two_view_line_sigma_scale == 0.0 || init_two_view_line_sigma_scale >= 1.0) ||
+      init_min_keyframes < 4 || init_max_keyframes < init_min_keyframes ||
+      !(max_imu_factor_span_s > 0.0) || !(gyro_bias_prior_sigma > 0.0) ||
+      !(accel_bias_prior_sigma > 0.0) || !(velocity_prior_sigma > 0.0) ||
+      !(init_max_rotation_disagreement_deg > 0.0) || !(init_gyro_bias_bound >= 0.0) ||
+      !(image_still_span_s >= 0.0) || init_ba_iterations < 0 || init_extend_keyframes < 0 ||
+      !(init_extend_min_rotation_deg >= 0.0) || !(init_extend_max_seconds >= 0.0) ||
+      !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
+      !(keyframe_max_rotation_deg >= 0.0) || !(tracking_velocity_sigma >= 0.0) ||
+      max_point_tracks < 1 || !(point_min_distance_px >= 0.0) ||
       !(point_detect_below_share > 0.0 && point_detect_below_share <= 1.0) ||
       line_max_segments < 0 || !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) ||
       line_flow_samples < 0 || line_flow_samples > 1000 ||
       (init_accel_bias && !init_accel_bias->allFinite()) ||
       (init_gyro_bias && !init_gyro_bias->allFinite())) {
-    return "an option is out of range (window >= 2, min_line_views >= 2, init_min_keyframes >= 4, "
+    return "an option is out of range (window >= 2, min_line_views >= 2, "
+           "two_view_line_sigma_scale >= 1, init_two_view_line_sigma_scale 0 or >= 1, "
+           "init_min_keyframes >= 4, "
            "init_max_keyframes >= init_min_keyframes, sigmas and intervals > 0, "
            "tracking_velocity_sigma >= 0, "
            "init_ba_iterations >= 0, point_min_distance_px >= 0, 0 < point_detect_below_share "
@@ -108,6 +111,8 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.min_tracked_ratio = c.min_tracked_ratio;
   o.keyframe_max_rotation_deg = c.keyframe_max_rotation_deg;
   o.min_line_views = c.min_line_views;
+  o.two_view_line_sigma_scale = c.two_view_line_sigma_scale;
+  o.recheck_two_view_lines = c.recheck_two_view_lines;
   o.point_sigma_px = o.line_sigma_px = std::max(calib.pixel_sigma, 0.5);
   window::InertialOptions inertial;
   inertial.T_b_c = calib.T_b_c;

@@ -68,6 +68,10 @@ struct VisualInertialOdometryOptions {
   // (seeds 1-5: 0.0231 -> 0.0194 m, = points only) but costs the corridor's view (seed 1:
   // 0.0816 -> 0.1104 m) and the full-image fisheye (6 %): opt-in (docs/results/fisheye.md).
   int min_line_views = 2;
+  // window::SlidingWindowOptions::two_view_line_sigma_scale: a two-view line's observations
+  // weighed down (sigma x this) until a third keyframe sees it (1: off).
+  double two_view_line_sigma_scale = 1.0;
+  bool recheck_two_view_lines = false;  // window::SlidingWindowOptions::recheck_two_view_lines
   double max_imu_factor_span_s = 1.0;
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
@@ -91,6 +95,10 @@ struct VisualInertialOdometryOptions {
   // 0: off, the default (docs/results/vio.md, MH_05).
   double init_extend_min_rotation_deg = 0.0;
   double init_extend_max_seconds = 0.0;
+  // The dynamic start's vision-only window weighs its two-view lines with this
+  // (window::SlidingWindowOptions::two_view_line_sigma_scale; two_view_line_sigma_scale applies
+  // when this is 0, the default).
+  double init_two_view_line_sigma_scale = 0.0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.

@@ -36,6 +36,9 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
   if (options.min_line_views < 2 || !(options.max_new_line_rms_px >= 0.0))
     throw std::invalid_argument(
         "SlidingWindowEstimator: min_line_views < 2 or max_new_line_rms_px < 0");
+  if (!(options.two_view_line_sigma_scale >= 1.0) ||
+      !std::isfinite(options.two_view_line_sigma_scale))
+    throw std::invalid_argument("SlidingWindowEstimator: two_view_line_sigma_scale < 1");
   impl_->K = K;
   impl_->opt = options;
   impl_->loss = factors::MakeLossFunction(options.loss, options.loss_scale);
@@ -111,6 +114,7 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
     m.keyframes.push_back(std::move(frame));
     // Triangulate.
     stage(WindowStage::kTriangulation);
+    m.CountLineViews(*m.keyframes.back(), &result);
     m.Triangulate(*m.keyframes.back(), &result.new_points, &result.new_lines, &result);
     // Solve.
     stage(WindowStage::kSolve);

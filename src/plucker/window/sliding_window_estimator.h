@@ -279,6 +279,15 @@ struct SlidingWindowOptions {
   // distance of its triangulation in those views at most max_new_line_rms_px (0: no test).
   int min_line_views = 2;
   double max_new_line_rms_px = 0.0;
+  // A line triangulated from two views is exactly determined (two back-projected planes always
+  // meet): its observations are weighed with line_sigma_px times this until a third view
+  // observes its track (1: off, the default). Unlike min_line_views 3, the line is in at once.
+  double two_view_line_sigma_scale = 1.0;
+  // A line made from two views is triangulated again, with the checks above, when a third
+  // keyframe observes its track: replaced by that estimate, or dropped if a check fails (false:
+  // kept as it is, the default). The window then holds the lines min_line_views 3 would make,
+  // and the two-view lines meanwhile (tracking).
+  bool recheck_two_view_lines = false;
   MarginalizationOptions marginalization;
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
   // Stereo mode (docs/vo.md, "Stereo"): the second camera (same K) at T_c0_c1 in the frame of
@@ -344,6 +353,8 @@ struct WindowFrameResult {
   int line_small_parallax = 0;
   int line_ill_conditioned = 0;
   int line_other_rejections = 0;
+  // SlidingWindowOptions::recheck_two_view_lines: two-view lines dropped at their third view.
+  int rechecked_lines_dropped = 0;
   int marginalized_keyframes = 0;  // 0 or 1
   int marginalized_landmarks = 0;
   int dropped_line_observations = 0;  // keep_marginalized_lines = false

@@ -539,6 +539,51 @@ TEST(SlidingWindowEstimator, NewLineGatesRejectLines) {
   EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
+// two_view_line_sigma_scale: after a two-keyframe start every line is a two-view line (its two
+// observations fit exactly, so the start's cost is that of its points); a frame localized against
+// them with a large scale gets the pose of points alone, and once later keyframes have seen the
+// lines three times their whitened residuals are back to those of scale 1.
+TEST(SlidingWindowEstimator, TwoViewLinesAreWeighedDownUntilAThirdView) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 16, 1);
+  const std::vector<FrameInput> in = Inputs(s, 1);
+  struct Run {
+    double start_cost = 0.0, last_line_rms = 0.0;
+    SE3d T_w_c2;  // frame 2 localized after the start
+  };
+  const auto run = [&](bool lines, double scale) {
+    SlidingWindowOptions options;
+    options.use_lines = lines;
+    options.two_view_line_sigma_scale = scale;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    const InitializationResult init =
+        estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]);
+    EXPECT_TRUE(init.ok);
+    Run r{init.final_cost, 0.0, estimator.Localize(in[2], init.T_w_b).value_or(SE3d())};
+    for (std::size_t i = 4; i < in.size(); ++i) {
+      const WindowFrameResult f = estimator.AddFrame(in[i]);
+      if (f.keyframe) r.last_line_rms = f.line_rms_sigmas;
+    }
+    return r;
+  };
+  const Run points = run(false, 1.0), full = run(true, 1.0), down = run(true, 1e3);
+  const auto moved = [&](const Run& r) {
+    return (r.T_w_c2.translation() - points.T_w_c2.translation()).norm();
+  };
+  std::printf(
+      "start cost %.6g / %.6g; frame 2 moved from points only by %.3g m (lines), %.3g m "
+      "(x 1000); last line RMS %.3g, %.3g (x 1000)\n",
+      points.start_cost, full.start_cost, moved(full), moved(down), full.last_line_rms,
+      down.last_line_rms);
+  EXPECT_NEAR(full.start_cost, points.start_cost, 1e-6 * points.start_cost);
+  EXPECT_GT(moved(full), 1e-4);                // the two-view lines count at scale 1 ...
+  EXPECT_LT(moved(down), 0.05 * moved(full));  // ... and hardly at 1000
+  EXPECT_GT(full.last_line_rms, 0.3);
+  EXPECT_GT(down.last_line_rms, 0.5 * full.last_line_rms);  // seen three times: full weight
+  SlidingWindowOptions bad;
+  bad.two_view_line_sigma_scale = 0.5;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace window
 }  // namespace plucker

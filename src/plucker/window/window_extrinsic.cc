@@ -77,7 +77,8 @@ void SlidingWindowEstimator::Impl::UseExtrinsicBlock(std::vector<ResidualSpec>* 
         r.cost.reset(PointReprojectionFactorVI::Create(K, p.uv, PointSqrtInfo(p)));
       } else {
         const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
-        r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px, LineSqrtInfo(),
+        r.cost.reset(AnchoredLineFactorVI::Create(K, seg.s_px, seg.e_px,
+                                                  LineSqrtInfo(*lines.at(seg.line_id)),
                                                   lines.at(seg.line_id)->anchor));
       }
       r.blocks = {r.blocks[0], extrinsic, r.blocks[1]};
@@ -91,10 +92,10 @@ void SlidingWindowEstimator::Impl::UseExtrinsicBlock(std::vector<ResidualSpec>* 
           K, p.uv, p.uv_velocity.value_or(Eigen::Vector2d::Zero()), PointSqrtInfo(p));
     } else {
       const sensor::SegmentObservation& seg = r.frame->input.segments[r.observation];
-      vi = AnchoredLineFactorVITimeOffset::Create(K, seg.s_px, seg.e_px,
-                                                  seg.s_velocity.value_or(Eigen::Vector2d::Zero()),
-                                                  seg.e_velocity.value_or(Eigen::Vector2d::Zero()),
-                                                  LineSqrtInfo(), lines.at(seg.line_id)->anchor);
+      vi = AnchoredLineFactorVITimeOffset::Create(
+          K, seg.s_px, seg.e_px, seg.s_velocity.value_or(Eigen::Vector2d::Zero()),
+          seg.e_velocity.value_or(Eigen::Vector2d::Zero()), LineSqrtInfo(*lines.at(seg.line_id)),
+          lines.at(seg.line_id)->anchor);
     }
     if (extrinsic_free) {
       r.cost.reset(vi);

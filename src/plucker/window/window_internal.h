@@ -98,6 +98,9 @@ struct PointLandmark {
 struct LineLandmark {
   LineAnchor anchor;
   double block[6];
+  // Views of its track so far (at triangulation, then one more per keyframe observing it); below
+  // three its observations are weighed with SlidingWindowOptions::two_view_line_sigma_scale.
+  int views = 0;
 };
 
 // The pose of a marginalized keyframe kept in the state (a block of the prior, FEJ like the
@@ -228,12 +231,16 @@ struct SlidingWindowEstimator::Impl {
     const Eigen::Matrix2d uniform = Eigen::Matrix2d::Identity() / opt.point_sigma_px;
     return p.sqrt_info_scale ? Eigen::Matrix2d(*p.sqrt_info_scale * uniform) : uniform;
   }
-  Eigen::Matrix2d LineSqrtInfo() const { return Eigen::Matrix2d::Identity() / opt.line_sigma_px; }
+  // A line seen in two views only (exactly determined): sigma x two_view_line_sigma_scale.
+  Eigen::Matrix2d LineSqrtInfo(const internal::LineLandmark& l) const {
+    const double scale = l.views < 3 ? opt.two_view_line_sigma_scale : 1.0;
+    return Eigen::Matrix2d::Identity() / (opt.line_sigma_px * scale);
+  }
   // The visual costs on (pose, landmark): with the time offset, the observation moved by the
   // current estimate, held (tracking, culling); UseExtrinsicBlock frees td in the window.
   ceres::CostFunction* PointCost(const sensor::PointObservation& p) const;
   ceres::CostFunction* LineCost(const sensor::SegmentObservation& s,
-                                const LineAnchor& anchor) const;
+                                const internal::LineLandmark& l) const;
   void AppendFrameResiduals(Frame* f, bool with_points, bool with_lines,
                             std::vector<ResidualSpec>* out) const;
   // The observations of the retained poses whose line exists (and, when `only` is given, is in
@@ -333,6 +340,14 @@ struct SlidingWindowEstimator::Impl {
   // `stats` (optional): the line_candidates and rejection counts.
   void Triangulate(const Frame& f, int* new_points, int* new_lines,
                    WindowFrameResult* stats = nullptr);
+  // The new keyframe `f`'s inlier observations of existing lines: LineLandmark::views + 1 (and
+  // SlidingWindowOptions::recheck_two_view_lines).
+  void CountLineViews(const Frame& f, WindowFrameResult* stats);
+  std::vector<LineObservation> LineViews(int id) const;
+  // A line for track `id` from at least `min_views` views, with the new-line checks (nullptr:
+  // fewer views or a check failed); counts into `stats`.
+  std::unique_ptr<internal::LineLandmark> NewLine(int id, int min_views,
+                                                  WindowFrameResult* stats) const;
 
   // --- window_solve.cc: solve and cull --------------------------------------------------------
   void SolveWindow(WindowFrameResult* result);

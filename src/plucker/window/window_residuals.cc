@@ -47,17 +47,18 @@ ceres::CostFunction* SlidingWindowEstimator::Impl::PointCost(
 }
 
 ceres::CostFunction* SlidingWindowEstimator::Impl::LineCost(const sensor::SegmentObservation& s,
-                                                            const LineAnchor& anchor) const {
-  if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor);
+                                                            const internal::LineLandmark& l) const {
+  const LineAnchor& anchor = l.anchor;
+  if (!opt.inertial) return AnchoredLineFactor::Create(K, s.s_px, s.e_px, LineSqrtInfo(l), anchor);
   if (TimeOffsetOn() && s.s_velocity && s.e_velocity) {
     const double td = time_offset[0];
     return new HeldExtrinsicFactor<6>(
         AnchoredLineFactorVI::Create(K, s.s_px - td * *s.s_velocity, s.e_px - td * *s.e_velocity,
-                                     LineSqrtInfo(), anchor),
+                                     LineSqrtInfo(l), anchor),
         T_b_c);
   }
   return new HeldExtrinsicFactor<6>(
-      AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), anchor), T_b_c);
+      AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(l), anchor), T_b_c);
 }
 
 void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_points, bool with_lines,
@@ -84,7 +85,7 @@ void SlidingWindowEstimator::Impl::AppendFrameResiduals(Frame* f, bool with_poin
       if (it == lines.end()) continue;
       const auto& s = f->input.segments[i];
       ResidualSpec r;
-      r.cost.reset(LineCost(s, it->second->anchor));
+      r.cost.reset(LineCost(s, *it->second));
       r.blocks = std::vector<double*>{f->pose, it->second->block};
       r.frame = f;
       r.observation = static_cast<int>(i);
@@ -114,7 +115,7 @@ void SlidingWindowEstimator::Impl::AppendRetainedResiduals(std::vector<ResidualS
       const auto it = lines.find(seg.line_id);
       if (it == lines.end() || (only && !only->count(seg.line_id))) continue;
       ResidualSpec r;
-      r.cost.reset(LineCost(seg, it->second->anchor));
+      r.cost.reset(LineCost(seg, *it->second));
       r.blocks = std::vector<double*>{rp->pose, it->second->block};
       r.is_point = false;
       out->push_back(std::move(r));

@@ -139,7 +139,7 @@ int SlidingWindowEstimator::Impl::PruneRetained(bool cull) {
       const auto it = lines.find(seg.line_id);
       if (it == lines.end()) continue;
       if (cull) {
-        std::unique_ptr<ceres::CostFunction> cost(LineCost(seg, it->second->anchor));
+        std::unique_ptr<ceres::CostFunction> cost(LineCost(seg, *it->second));
         double res[2];
         const double* params[2] = {rp->pose, it->second->block};
         if (!cost->Evaluate(params, res, nullptr) || !std::isfinite(res[0]) ||

@@ -71,7 +71,8 @@ void SlidingWindowEstimator::Impl::AppendRightResiduals(Frame* f, bool with_poin
       const sensor::SegmentObservation& s = f->input.right_segments[f->right_segment[i]];
       ResidualSpec r;
       r.cost.reset(new HeldExtrinsicFactor<6>(
-          AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(), it->second->anchor),
+          AnchoredLineFactorVI::Create(K, s.s_px, s.e_px, LineSqrtInfo(*it->second),
+                                       it->second->anchor),
           T_c0_c1));
       r.blocks = std::vector<double*>{f->pose, it->second->block};
       r.frame = f;

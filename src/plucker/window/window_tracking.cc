@@ -85,7 +85,7 @@ TrackResult SlidingWindowEstimator::Impl::Track(Frame* f, const SE3d& guess,
       const auto it = lines.find(f->input.segments[i].line_id);
       if (f->segment_outlier[i] || it == lines.end()) continue;
       obs.push_back(
-          {std::unique_ptr<ceres::CostFunction>(LineCost(f->input.segments[i], it->second->anchor)),
+          {std::unique_ptr<ceres::CostFunction>(LineCost(f->input.segments[i], *it->second)),
            it->second->block, static_cast<int>(i), false});
     }
   }
