@@ -61,6 +61,15 @@ struct VisualInertialOdometryOptions {
   // dynamic start's trajectory was 12-25 % short; 10 deg fixes it, but costs the 10 Hz corridor
   // with lines (seed 1: 0.074 -> 0.104 m), so it is opt-in (docs/vio.md).
   double keyframe_max_rotation_deg = 0.0;
+  // ... only when the turn from the newest keyframe came at this rate or faster (deg/s; 0: at any
+  // rate; window::SlidingWindowOptions::keyframe_min_turn_rate_deg_s). Applies to the window and
+  // to the dynamic start's vision-only run.
+  double keyframe_min_turn_rate_deg_s = 0.0;
+  // The dynamic start's vision-only run: a keyframe also when the frame has turned this much from
+  // the newest keyframe, at keyframe_min_turn_rate_deg_s or faster (deg; 0: the window's
+  // keyframe_max_rotation_deg). Under fast turns its keyframes came 1 s apart and the run lost
+  // scale along its 4.5 s (the aggressive corridor, docs/results/vio.md).
+  double init_keyframe_max_rotation_deg = 0.0;
   // Keyframes observing a segment track before its line is triangulated
   // (window::SlidingWindowOptions::min_line_views). A two-view line is exactly determined (two
   // planes always meet): its errors are not averaged, and on the fisheye's 107 deg view
@@ -82,6 +91,10 @@ struct VisualInertialOdometryOptions {
   // adjustment, init_ba_iterations) sees more of the motion; the first alignment is kept when
   // the run ends or the second fails. 0: off, the default (docs/results/vio.md, MH_05).
   int init_extend_keyframes = 0;
+  // ... and the alignment waits until its keyframes span this long (s; 0: off). Under the fast
+  // room's 4.3 rad/s turns the keyframes came 1.7 frames apart at 30 Hz: 10 keyframes spanned
+  // 0.57 s and the gyro bias fitted the vision-only run's rotation error (0.021 rad/s against 0).
+  double init_min_span_s = 0.0;
   double init_min_excitation = 0.25;  // m/s^2
   // The two-view start's rotation must agree with the gyroscope's (integrated at zero bias)
   // within this angle plus init_gyro_bias_bound times the time between the two frames.

@@ -164,6 +164,7 @@ struct SlidingWindowEstimator::Impl {
   // SlidingWindowOptions::prior_blocks: how the oldest keyframe leaves the window.
   std::unique_ptr<internal::MarginalizationStrategy> marginalization;
   SE3d last_T_w_c, prev_T_w_c;
+  double last_time = 0.0;  // last_T_w_c's frame time (the turn rate of the rotation keyframe)
   // SlidingWindowOptions::start_scale_sigma: the distance held (0: not yet taken).
   double start_distance = 0.0;
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
@@ -322,6 +323,7 @@ struct SlidingWindowEstimator::Impl {
 
   // --- window_keyframe_policy.cc: decide ------------------------------------------------------
   double Parallax(const Frame& f) const;
+  bool Turned(const Frame& f) const;
   int TrackableSegments(const Frame& f) const;
   // Sets result->parallax_px and returns whether the tracked frame becomes a keyframe.
   bool DecideKeyframe(const Frame& f, const internal::TrackResult& track,

@@ -66,17 +66,29 @@ int SlidingWindowEstimator::Impl::TrackableSegments(const Frame& f) const {
   return n;
 }
 
+// The rotation keyframe (SlidingWindowOptions::keyframe_max_rotation_deg) when the frame has turned
+// that much from the newest keyframe and, with keyframe_min_turn_rate_deg_s, turns at that rate
+// from the previous frame (the rate now: the angle since the keyframe averages slow and fast
+// phases of a sway).
+bool SlidingWindowEstimator::Impl::Turned(const Frame& f) const {
+  if (!(opt.keyframe_max_rotation_deg > 0.0)) return false;
+  const auto angle_deg = [&](const SE3d& T_w_a) {
+    return Eigen::AngleAxisd(T_w_a.RotationMatrix().transpose() * f.T_w_c().RotationMatrix())
+               .angle() *
+           180.0 / M_PI;
+  };
+  if (angle_deg(keyframes.back()->T_w_c()) < opt.keyframe_max_rotation_deg) return false;
+  if (!(opt.keyframe_min_turn_rate_deg_s > 0.0)) return true;
+  const double dt = f.input.time - last_time;
+  return dt > 0.0 && angle_deg(last_T_w_c) / dt >= opt.keyframe_min_turn_rate_deg_s;
+}
+
 bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
                                                   WindowFrameResult* result) const {
   result->parallax_px = Parallax(f);
   const int observed = static_cast<int>(f.input.points.size()) + TrackableSegments(f);
   const double since_keyframe = f.input.time - keyframes.back()->input.time;
-  const bool turned = opt.keyframe_max_rotation_deg > 0.0 &&
-                      Eigen::AngleAxisd(keyframes.back()->T_w_c().RotationMatrix().transpose() *
-                                        f.T_w_c().RotationMatrix())
-                                  .angle() *
-                              180.0 / M_PI >=
-                          opt.keyframe_max_rotation_deg;
+  const bool turned = Turned(f);
   const bool keyframe =
       track.ok &&
       (result->parallax_px >= opt.keyframe_parallax_px || turned ||
