@@ -95,8 +95,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "keyframe when the frame has turned this much from the newest one (0: off)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
   t.Value("window.keyframe_min_turn_rate_deg_s", "deg/s",
-          "... only when that turn from the newest keyframe came at this rate or faster (0: any; "
-          "also the dynamic start's run)",
+          "... only when some frame since the newest keyframe turned this fast from its previous "
+          "frame (0: any rate; also the dynamic start's run)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.keyframe_min_turn_rate_deg_s));
   t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(odometry.min_line_views));

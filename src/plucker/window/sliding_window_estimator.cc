@@ -101,7 +101,9 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   result.T_w_c = track.ok ? track.T_w_c : prediction.T_w_c;
   frame->SetCameraPose(result.T_w_c);
   // Decide.
+  m.UpdateTurnRate(*frame);
   result.keyframe = m.DecideKeyframe(*frame, track, &result);
+  if (result.keyframe) m.peak_turn_rate_deg_s = 0.0;
   if (m.opt.inertial) {
     result.imu_only = !track.ok;
     prediction.state.T_w_b = SE3d::FromParameters(frame->pose);

@@ -1,6 +1,7 @@
 // Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, rotation from and
 // time since the newest keyframe; InertialOptions::max_imu_factor_span_s in the inertial mode).
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -66,21 +67,28 @@ int SlidingWindowEstimator::Impl::TrackableSegments(const Frame& f) const {
   return n;
 }
 
-// The rotation keyframe (SlidingWindowOptions::keyframe_max_rotation_deg) when the frame has turned
-// that much from the newest keyframe and, with keyframe_min_turn_rate_deg_s, turns at that rate
-// from the previous frame (the rate now: the angle since the keyframe averages slow and fast
-// phases of a sway).
-bool SlidingWindowEstimator::Impl::Turned(const Frame& f) const {
-  if (!(opt.keyframe_max_rotation_deg > 0.0)) return false;
-  const auto angle_deg = [&](const SE3d& T_w_a) {
-    return Eigen::AngleAxisd(T_w_a.RotationMatrix().transpose() * f.T_w_c().RotationMatrix())
-               .angle() *
-           180.0 / M_PI;
-  };
-  if (angle_deg(keyframes.back()->T_w_c()) < opt.keyframe_max_rotation_deg) return false;
-  if (!(opt.keyframe_min_turn_rate_deg_s > 0.0)) return true;
+namespace {
+double AngleDeg(const SE3d& T_w_a, const SE3d& T_w_b) {
+  return Eigen::AngleAxisd(T_w_a.RotationMatrix().transpose() * T_w_b.RotationMatrix()).angle() *
+         180.0 / M_PI;
+}
+}  // namespace
+
+// peak_turn_rate_deg_s with the turn from the previous frame to f.
+void SlidingWindowEstimator::Impl::UpdateTurnRate(const Frame& f) {
   const double dt = f.input.time - last_time;
-  return dt > 0.0 && angle_deg(last_T_w_c) / dt >= opt.keyframe_min_turn_rate_deg_s;
+  if (dt > 0.0)
+    peak_turn_rate_deg_s = std::max(peak_turn_rate_deg_s, AngleDeg(last_T_w_c, f.T_w_c()) / dt);
+}
+
+// The rotation keyframe (SlidingWindowOptions::keyframe_max_rotation_deg) when the frame has turned
+// that much from the newest keyframe and, with keyframe_min_turn_rate_deg_s, some frame since that
+// keyframe turned at that rate from its previous frame (the peak: the mean rate since the
+// keyframe, or the rate of the frame alone, falls under the bound in the slow phases of a sway).
+bool SlidingWindowEstimator::Impl::Turned(const Frame& f) const {
+  return opt.keyframe_max_rotation_deg > 0.0 &&
+         AngleDeg(keyframes.back()->T_w_c(), f.T_w_c()) >= opt.keyframe_max_rotation_deg &&
+         peak_turn_rate_deg_s >= opt.keyframe_min_turn_rate_deg_s;
 }
 
 bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
