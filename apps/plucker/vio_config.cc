@@ -94,6 +94,10 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("window.keyframe_max_rotation_deg", "deg",
           "keyframe when the frame has turned this much from the newest one (0: off)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.keyframe_max_rotation_deg));
+  t.Value("window.keyframe_min_turn_rate_deg_s", "deg/s",
+          "... only when some frame since the newest keyframe turned this fast from its previous "
+          "frame (0: any rate; also the dynamic start's run)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.keyframe_min_turn_rate_deg_s));
   t.Value(SharedVisualOption("window.min_line_views"),
           PLUCKER_OPTION_MEMBER(odometry.min_line_views));
   t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
@@ -134,6 +138,13 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
   t.Value("init.two_view_line_sigma_scale", "",
           "dynamic start: window.two_view_line_sigma_scale of its vision-only window (0: that)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_two_view_line_sigma_scale));
+  t.Value("init.min_span_s", "s",
+          "dynamic start: the alignment waits until its keyframes span this long (0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_span_s));
+  t.Value("init.keyframe_max_rotation_deg", "deg",
+          "dynamic start: its vision-only run's keyframe also when the frame has turned this much, "
+          "at window.keyframe_min_turn_rate_deg_s or faster (0: window.keyframe_max_rotation_deg)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_keyframe_max_rotation_deg));
   t.Value("init.min_excitation", "m/s^2", "dynamic start: accelerometer excitation needed",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_min_excitation));
   t.Value("init.max_rotation_disagreement_deg", "deg",

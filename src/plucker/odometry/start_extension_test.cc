@@ -73,6 +73,8 @@ TEST(StartExtension, WaitsForTheTurnAndOnlyThen) {
   VisualInertialOdometryOptions o;
   o.use_lines = false;
   o.init_max_keyframes = 80;
+  o.init_extend_min_rotation_deg = 0.0;  // the first alignment (the default waits for 60 deg)
+  o.init_extend_max_seconds = 0.0;
   const InitRun first = RunInitializer(o, in);
   ASSERT_TRUE(first.done);
   ASSERT_EQ(first.start.method, "dynamic");

@@ -99,6 +99,10 @@ struct VisualInertialInitializer::Impl {
   bool TryAlignment(const std::vector<window::FrameInput>& frames,
                     const std::vector<sensor::ImuSample>& imu, bool* hopeless);
   void Restart();
+  // Whether the run's keyframes span init_min_span_s (the alignment waits for it).
+  bool SpanReached(const std::vector<window::FrameInput>& frames) const {
+    return frames[keyframes.back()].time - frames[keyframes.front()].time >= o.init_min_span_s;
+  }
 };
 
 // The still test on the IMU up to the newest frame (every block it reads then holds all the
@@ -182,6 +186,8 @@ bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInp
   vo.window_size = o.init_max_keyframes + 2;  // nothing is marginalized before the alignment
   if (o.init_two_view_line_sigma_scale > 0.0)
     vo.two_view_line_sigma_scale = o.init_two_view_line_sigma_scale;
+  if (o.init_keyframe_max_rotation_deg > 0.0)
+    vo.keyframe_max_rotation_deg = o.init_keyframe_max_rotation_deg;  // fast turns (the rate gate)
   run = std::make_unique<window::SlidingWindowEstimator>(calib.camera.K, vo);
   const window::InitializationResult init =
       run->Initialize(frames[i], SE3d(), frames[j], tv.T_b_a.Inverse());
@@ -382,7 +388,7 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
           return Extended(frames, imu);
         }
       } else if (static_cast<int>(keyframes.size()) >= o.init_min_keyframes &&
-                 TryAlignment(frames, imu, &hopeless)) {
+                 SpanReached(frames) && TryAlignment(frames, imu, &hopeless)) {
         aligned = start;
         extend_until = std::min(static_cast<int>(keyframes.size()) + o.init_extend_keyframes,
                                 o.init_max_keyframes);

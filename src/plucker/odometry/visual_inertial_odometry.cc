@@ -28,7 +28,9 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(image_still_span_s >= 0.0) || init_ba_iterations < 0 || init_extend_keyframes < 0 ||
       !(init_extend_min_rotation_deg >= 0.0) || !(init_extend_max_seconds >= 0.0) ||
       !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
-      !(keyframe_max_rotation_deg >= 0.0) || !(tracking_velocity_sigma >= 0.0) ||
+      !(keyframe_max_rotation_deg >= 0.0) || !(keyframe_min_turn_rate_deg_s >= 0.0) ||
+      !(init_min_span_s >= 0.0) || !(init_keyframe_max_rotation_deg >= 0.0) ||
+      !(tracking_velocity_sigma >= 0.0) ||
       max_point_tracks < 1 || !(point_min_distance_px >= 0.0) ||
       !(point_detect_below_share > 0.0 && point_detect_below_share <= 1.0) ||
       line_max_segments < 0 || !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) ||
@@ -110,6 +112,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.min_tracked = c.min_tracked;
   o.min_tracked_ratio = c.min_tracked_ratio;
   o.keyframe_max_rotation_deg = c.keyframe_max_rotation_deg;
+  o.keyframe_min_turn_rate_deg_s = c.keyframe_min_turn_rate_deg_s;
   o.min_line_views = c.min_line_views;
   o.two_view_line_sigma_scale = c.two_view_line_sigma_scale;
   o.recheck_two_view_lines = c.recheck_two_view_lines;

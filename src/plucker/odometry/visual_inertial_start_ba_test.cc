@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "plucker/odometry/vio_test_utils.h"
 #include "plucker/sim/camera_observations.h"
@@ -135,6 +136,28 @@ TEST(StartBundleAdjustment, ExtendedStartHasMoreKeyframes) {
   EXPECT_EQ(extended.candidates.size(), std::min(first.candidates.size() + 5, most - 1));
   EXPECT_GT(extended.second, first.second);
   EXPECT_EQ(extended.T_w_b.size(), static_cast<std::size_t>(extended.second) + 1);
+}
+
+// init_min_span_s: the alignment waits until the run's keyframes span that long (the same run:
+// the same first keyframe, a later second one at least that far from it).
+TEST(StartBundleAdjustment, AlignmentWaitsForItsSpan) {
+  const Input in = Simulate(120);
+  VisualInertialOdometryOptions o;
+  o.use_lines = false;
+  o.init_min_span_s = 0.0;
+  std::vector<window::FrameInput> frames;
+  VioStart first, longer;
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &first));
+  ASSERT_EQ(first.method, "dynamic");
+  const double span = frames[first.second].time - frames[first.candidates.front()].time;
+  o.init_min_span_s = span + 0.5;
+  frames.clear();
+  ASSERT_TRUE(RunInitializer(o, in, &frames, &longer));
+  ASSERT_EQ(longer.method, "dynamic");
+  std::printf("start span %.2f s, with init_min_span_s %.2f: %.2f s\n", span, o.init_min_span_s,
+              frames[longer.second].time - frames[longer.candidates.front()].time);
+  EXPECT_EQ(longer.candidates.front(), first.candidates.front());
+  EXPECT_GE(frames[longer.second].time - frames[longer.candidates.front()].time, span + 0.5);
 }
 
 TEST(StartBundleAdjustment, LeavesTooShortAStartAsItWas) {

@@ -29,6 +29,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
     throw std::invalid_argument("SlidingWindowEstimator: max_keyframe_interval_s < 0");
   if (!(options.keyframe_max_rotation_deg >= 0.0))
     throw std::invalid_argument("SlidingWindowEstimator: keyframe_max_rotation_deg < 0");
+  if (!(options.keyframe_min_turn_rate_deg_s >= 0.0))
+    throw std::invalid_argument("SlidingWindowEstimator: keyframe_min_turn_rate_deg_s < 0");
   if (options.T_c0_c1 && options.inertial)
     throw std::invalid_argument("SlidingWindowEstimator: stereo is not for the inertial mode");
   if (!(options.start_scale_sigma >= 0.0) || !std::isfinite(options.start_scale_sigma))
@@ -102,7 +104,9 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   result.T_w_c = track.ok ? track.T_w_c : prediction.T_w_c;
   frame->SetCameraPose(result.T_w_c);
   // Decide.
+  m.UpdateTurnRate(*frame);
   result.keyframe = m.DecideKeyframe(*frame, track, &result);
+  if (result.keyframe) m.peak_turn_rate_deg_s = 0.0;
   if (m.opt.inertial) {
     result.imu_only = !track.ok;
     prediction.state.T_w_b = SE3d::FromParameters(frame->pose);
@@ -133,6 +137,7 @@ WindowFrameResult SlidingWindowEstimator::AddFrame(const FrameInput& input,
   }
   m.prev_T_w_c = m.last_T_w_c;
   m.last_T_w_c = result.T_w_c;
+  m.last_time = input.time;
   result.extrinsic_free = m.extrinsic_free;
   m.FillCounts(&result);
   stage(WindowStage::kDone);

@@ -200,6 +200,11 @@ struct SlidingWindowOptions {
   // Also a keyframe when the frame has turned this much from the newest keyframe (deg; 0: off, the
   // VO default): under fast turns the tracks end before the parallax builds up.
   double keyframe_max_rotation_deg = 0.0;
+  // ... and only when some frame since the newest keyframe turned at this rate or faster from its
+  // previous frame (deg/s; 0: at any rate). The normal simulated motions turn at up to 31 deg/s,
+  // the aggressive corridor at up to 70 (the fast room 250), so a bound between applies the
+  // rotation keyframes to fast turns only.
+  double keyframe_min_turn_rate_deg_s = 0.0;
   // Robust loss on the reprojection residuals (pixels, whitened by the sigmas below).
   factors::RobustLoss loss = factors::RobustLoss::kHuber;
   double loss_scale = 1.5;  // in units of sigma

@@ -503,6 +503,38 @@ TEST(SlidingWindowEstimator, TrackedRatioOfMappedSegmentsIgnoresSegmentsWithoutL
   EXPECT_LT(clean_kf.size(), all_segments.size());
 }
 
+// The rotation keyframe and its rate gate: with parallax and tracking never asking for one, the
+// room (turning at ~31 deg/s at 10 Hz) gets keyframes every few frames from a 5 deg rotation
+// bound at any rate or a rate bound under its turn rate, and none when the bound is above it.
+TEST(SlidingWindowEstimator, RotationKeyframesOnlyAtTheirTurnRate) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 30, 1);
+  const std::vector<FrameInput> in = Inputs(s, 1);
+  const auto keyframes = [&](double max_rotation_deg, double min_rate_deg_s) {
+    SlidingWindowOptions options;
+    options.keyframe_parallax_px = 1e9;
+    options.min_tracked = 0;
+    options.min_tracked_ratio = 0.0;
+    options.keyframe_max_rotation_deg = max_rotation_deg;
+    options.keyframe_min_turn_rate_deg_s = min_rate_deg_s;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    EXPECT_TRUE(estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]).ok);
+    int n = 0;
+    for (std::size_t i = 4; i < in.size(); ++i) n += estimator.AddFrame(in[i]).keyframe;
+    return n;
+  };
+  const int off = keyframes(0.0, 0.0), any_rate = keyframes(5.0, 0.0);
+  const int slow_bound = keyframes(5.0, 10.0), fast_bound = keyframes(5.0, 200.0);
+  std::printf("keyframes: off %d, 5 deg %d, 5 deg at >= 10 deg/s %d, at >= 200 deg/s %d\n", off,
+              any_rate, slow_bound, fast_bound);
+  EXPECT_EQ(off, 0);
+  EXPECT_GE(any_rate, 5);
+  EXPECT_EQ(slow_bound, any_rate);
+  EXPECT_EQ(fast_bound, 0);
+  SlidingWindowOptions bad;
+  bad.keyframe_min_turn_rate_deg_s = -1.0;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+}
+
 // The new-line gates: min_line_views keyframes and max_new_line_rms_px (counted among
 // line_other_rejections); bad values throw.
 TEST(SlidingWindowEstimator, NewLineGatesRejectLines) {

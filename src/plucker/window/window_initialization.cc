@@ -37,6 +37,8 @@ InitializationResult SlidingWindowEstimator::Impl::StartWindow(int min_landmarks
   // One keyframe (a stereo start): no motion yet.
   prev_T_w_c = keyframes[keyframes.size() > 1 ? keyframes.size() - 2 : 0]->T_w_c();
   last_T_w_c = result.T_w_b;
+  last_time = keyframes.back()->input.time;
+  peak_turn_rate_deg_s = 0.0;
   return result;
 }
 

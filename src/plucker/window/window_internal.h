@@ -167,6 +167,10 @@ struct SlidingWindowEstimator::Impl {
   // SlidingWindowOptions::prior_blocks: how the oldest keyframe leaves the window.
   std::unique_ptr<internal::MarginalizationStrategy> marginalization;
   SE3d last_T_w_c, prev_T_w_c;
+  double last_time = 0.0;  // last_T_w_c's frame time
+  // The fastest frame-to-frame turn since the newest keyframe (deg/s; the rotation keyframe's
+  // keyframe_min_turn_rate_deg_s).
+  double peak_turn_rate_deg_s = 0.0;
   // SlidingWindowOptions::start_scale_sigma: the distance held (0: not yet taken).
   double start_distance = 0.0;
   // Tracks whose landmark went into a poses-only prior: never triangulated again.
@@ -329,6 +333,8 @@ struct SlidingWindowEstimator::Impl {
 
   // --- window_keyframe_policy.cc: decide ------------------------------------------------------
   double Parallax(const Frame& f) const;
+  void UpdateTurnRate(const Frame& f);
+  bool Turned(const Frame& f) const;
   int TrackableSegments(const Frame& f) const;
   // Sets result->parallax_px and returns whether the tracked frame becomes a keyframe.
   bool DecideKeyframe(const Frame& f, const internal::TrackResult& track,

@@ -1,6 +1,7 @@
 // Decide: the keyframe policy (SlidingWindowOptions: parallax, tracked landmarks, rotation from and
 // time since the newest keyframe; InertialOptions::max_imu_factor_span_s in the inertial mode).
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -66,17 +67,36 @@ int SlidingWindowEstimator::Impl::TrackableSegments(const Frame& f) const {
   return n;
 }
 
+namespace {
+double AngleDeg(const SE3d& T_w_a, const SE3d& T_w_b) {
+  return Eigen::AngleAxisd(T_w_a.RotationMatrix().transpose() * T_w_b.RotationMatrix()).angle() *
+         180.0 / M_PI;
+}
+}  // namespace
+
+// peak_turn_rate_deg_s with the turn from the previous frame to f.
+void SlidingWindowEstimator::Impl::UpdateTurnRate(const Frame& f) {
+  const double dt = f.input.time - last_time;
+  if (dt > 0.0)
+    peak_turn_rate_deg_s = std::max(peak_turn_rate_deg_s, AngleDeg(last_T_w_c, f.T_w_c()) / dt);
+}
+
+// The rotation keyframe (SlidingWindowOptions::keyframe_max_rotation_deg) when the frame has turned
+// that much from the newest keyframe and, with keyframe_min_turn_rate_deg_s, some frame since that
+// keyframe turned at that rate from its previous frame (the peak: the mean rate since the
+// keyframe, or the rate of the frame alone, falls under the bound in the slow phases of a sway).
+bool SlidingWindowEstimator::Impl::Turned(const Frame& f) const {
+  return opt.keyframe_max_rotation_deg > 0.0 &&
+         AngleDeg(keyframes.back()->T_w_c(), f.T_w_c()) >= opt.keyframe_max_rotation_deg &&
+         peak_turn_rate_deg_s >= opt.keyframe_min_turn_rate_deg_s;
+}
+
 bool SlidingWindowEstimator::Impl::DecideKeyframe(const Frame& f, const TrackResult& track,
                                                   WindowFrameResult* result) const {
   result->parallax_px = Parallax(f);
   const int observed = static_cast<int>(f.input.points.size()) + TrackableSegments(f);
   const double since_keyframe = f.input.time - keyframes.back()->input.time;
-  const bool turned = opt.keyframe_max_rotation_deg > 0.0 &&
-                      Eigen::AngleAxisd(keyframes.back()->T_w_c().RotationMatrix().transpose() *
-                                        f.T_w_c().RotationMatrix())
-                                  .angle() *
-                              180.0 / M_PI >=
-                          opt.keyframe_max_rotation_deg;
+  const bool turned = Turned(f);
   const bool keyframe =
       track.ok &&
       (result->parallax_px >= opt.keyframe_parallax_px || turned ||
