@@ -9,16 +9,13 @@ R_b0_bk, its yaw part (about the world's vertical) and the tilt change (the angl
 gravity directions in the two bodies): what the start's bundle adjustment has to separate the
 gravity tilt from the accelerometer bias (docs/results/vio.md). Needs numpy.
 """
+import os
 import sys
 
 import numpy as np
 
-
-def rotation(qx, qy, qz, qw):
-    x, y, z, w = qx, qy, qz, qw
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ate_orientation_offset import rotation  # noqa: E402  (quaternion x y z w -> matrix)
 
 
 def yaw_deg(R):
