@@ -30,8 +30,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
       !(keyframe_max_rotation_deg >= 0.0) || !(keyframe_min_turn_rate_deg_s >= 0.0) ||
       !(init_min_span_s >= 0.0) || !(init_keyframe_max_rotation_deg >= 0.0) ||
-      !(tracking_velocity_sigma >= 0.0) ||
-      max_point_tracks < 1 || !(point_min_distance_px >= 0.0) ||
+      !(tracking_velocity_sigma >= 0.0) || max_point_tracks < 1 ||
+      !(point_min_distance_px >= 0.0) ||
       !(point_detect_below_share > 0.0 && point_detect_below_share <= 1.0) ||
       line_max_segments < 0 || !(line_detection_scale > 0.0 && line_detection_scale <= 1.0) ||
       line_flow_samples < 0 || line_flow_samples > 1000 ||

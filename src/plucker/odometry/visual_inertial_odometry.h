@@ -110,8 +110,8 @@ struct VisualInertialOdometryOptions {
   // (window::SlidingWindowOptions::two_view_line_sigma_scale; two_view_line_sigma_scale applies
   // when this is 0, the default).
   double init_two_view_line_sigma_scale = 0.0;
-  // The dynamic start's alignment waits until its keyframes span this long (s; 0: off). Under the fast
-  // room's 4.3 rad/s turns the keyframes came 1.7 frames apart at 30 Hz: 10 keyframes spanned
+  // The dynamic start's alignment waits until its keyframes span this long (s; 0: off). Under the
+  // fast room's 4.3 rad/s turns the keyframes came 1.7 frames apart at 30 Hz: 10 keyframes spanned
   // 0.57 s and the gyro bias fitted the vision-only run's rotation error (0.021 rad/s against 0;
   // 1 s: 0.014). Normal starts span more (the 10 Hz corridor 8.7 s, MH_05 1.4 s).
   double init_min_span_s = 1.0;
@@ -122,8 +122,8 @@ struct VisualInertialOdometryOptions {
   double init_gyro_bias_bound = 0.1;  // rad/s, the largest gyro bias expected before it is known
   // The visual-inertial bundle adjustment of the dynamic start over all the alignment's
   // keyframes (visual_inertial_start_ba.h): its iteration budget (default 20; 0: off, the window
-  // starts on the aligned states) and its priors on the first keyframe's accelerometer bias (m/s^2, weak: the
-  // alignment's bias carries its gravity tilt) and velocity (m/s).
+  // starts on the aligned states) and its priors on the first keyframe's accelerometer bias (m/s^2,
+  // weak: the alignment's bias carries its gravity tilt) and velocity (m/s).
   int init_ba_iterations = 20;
   double init_ba_accel_bias_prior_sigma = 0.5;
   double init_ba_velocity_prior_sigma = 0.5;
