@@ -10,6 +10,8 @@
 # and worst ATE after position+yaw alignment, the runs over 0.5 m, the IMU-only share, the
 # slowest run's process CPU against the simulated time: `x real time`).
 # VIO_ARGS (environment): extra `plucker vio` flags for every run, e.g. "--config my.yaml".
+# VIO_KEEP_JSON=1 (environment): keep every run's `--json` as
+# OUT_DIR/json/SCENE-RATE-START-MOTION-SEED-LINES.json.gz (the failure detector's study).
 # --summary: the table of several runs.tsv files (e.g. two OUT_DIRs run side by side on
 # disjoint seeds).
 set -u
@@ -60,6 +62,10 @@ for seed in $SEEDS; do
       # The largest whitened IMU-factor chi2 of the run's keyframes (after their solve).
       chi2=$(python3 -c 'import json,sys; print("%.1f" % max([f.get("imu_chi2", 0) for f in json.load(open(sys.argv[1]))["frames"] if f.get("keyframe")] + [0]))' \
         "$OUT/est.json" 2> /dev/null || echo nan)
+      if [ -n "${VIO_KEEP_JSON:-}" ] && [ -f "$OUT/est.json" ]; then
+        mkdir -p "$OUT/json"
+        gzip -c "$OUT/est.json" > "$OUT/json/$scene-$rate-$start-$motion-$seed-$lines.json.gz"
+      fi
       printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$rate" "$start" \
         "$motion" "$seed" "$frames" "$ate" "$imu" "$rc" "$lines" "$cpu" "$t_wall" "$chi2" >> "$RUNS"
     done

@@ -150,6 +150,8 @@ int Run(const VioArgs& a) {
   const double duration = refined.back().time - refined.front().time;
   const std::vector<VioReport::KeyframeChi2> inconsistent =
       InconsistentKeyframes(report, cfg.max_keyframe_imu_chi2);
+  const VioStartBounds start_bounds{cfg.max_start_imu_chi2, cfg.max_start_culled_share};
+  const VioStartCheck start = CheckStart(report, start_bounds);
   if (!a.json.empty()) {
     nlohmann::json out = report.Json(in, vio, read_ms, WallMs() - t_start);
     out["summary"]["use_lines"] = cfg.odometry.use_lines;
@@ -164,6 +166,7 @@ int Run(const VioArgs& a) {
       largest = std::max(largest, k.chi2);
     out["summary"]["largest_keyframe_imu_chi2"] = largest;
     out["summary"]["inconsistent_keyframe_frames"] = frames;
+    out["summary"]["start_check"] = StartCheckJson(start, start_bounds);
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) PrintVioSummary(a.out, cfg.odometry.estimate_extrinsic, report, vio, in, duration);
@@ -173,7 +176,8 @@ int Run(const VioArgs& a) {
   }
   const int imu_only_exit = WarnImuOnly(vio.statistics(), cfg.max_imu_only_share);
   const int inconsistent_exit = WarnInconsistent(inconsistent, cfg.max_keyframe_imu_chi2);
-  return imu_only_exit != 0 ? imu_only_exit : inconsistent_exit;
+  const int start_exit = WarnStart(start, start_bounds);
+  return std::max({imu_only_exit, inconsistent_exit, start_exit});
 }
 
 }  // namespace

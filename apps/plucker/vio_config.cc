@@ -212,6 +212,14 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "exit code 3 when a keyframe's IMU factor has a larger whitened squared residual (15 "
           "degrees of freedom): the IMU and the vision disagree (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(max_keyframe_imu_chi2));
+  t.Value("checks.max_start_imu_chi2", "",
+          "exit code 3 when the window's first solve after the start leaves its newest IMU "
+          "factor a larger whitened squared residual: a start on a wrong scale (0: off)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(max_start_imu_chi2));
+  t.Value("checks.max_start_culled_share", "",
+          "exit code 3 when the window's first solve after the start culls more than this share "
+          "of its observations as outliers: a start on a wrong scale (0: off)",
+          Range{0.0, 1.0}, PLUCKER_OPTION_MEMBER(max_start_culled_share));
   return t.Take();
 }
 

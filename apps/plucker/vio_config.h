@@ -29,6 +29,15 @@ struct VioConfig {
   // and a simulated corridor at 10 Hz (seed 200, 0.031 m) 520. The JSON reports every run's
   // largest (`largest_keyframe_imu_chi2`).
   double max_keyframe_imu_chi2 = 0.0;
+  // The window's first solve after the start (its first keyframe: the start's keyframes,
+  // landmarks and state under the IMU factors) is the start's test: a start on a wrong scale (a
+  // vision-only run whose scale drifted, absorbed by the accelerometer bias) shows there as a
+  // large whitened chi2 of the newest IMU factor or as many observations culled as outliers.
+  // Either over its bound: named in a warning, JSON `start_check`, exit code 3 (docs/results/
+  // vio.md, session 22: the failed fast starts chi2 30-262 or share 0.013-0.038, healthy runs at
+  // most 19.6 and 0.0055). 0: that bound off.
+  double max_start_imu_chi2 = 25.0;
+  double max_start_culled_share = 0.01;
   // The T_b_c to use instead of the input's (rig.txt or sensor.yaml): [tx, ty, tz, qx, qy, qz,
   // qw], the camera in the body frame; empty: the input's.
   std::vector<double> T_b_c;
