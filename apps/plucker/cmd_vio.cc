@@ -23,6 +23,7 @@
 #include "progress.h"
 #include "run_guarded.h"
 #include "stage_clock.h"
+#include "vio_checks.h"
 #include "vio_config.h"
 #include "vio_draw.h"
 #include "vio_input.h"

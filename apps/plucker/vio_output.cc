@@ -270,52 +270,6 @@ int WarnInconsistent(const std::vector<VioReport::KeyframeChi2>& inconsistent, d
   return kExitImuOnly;
 }
 
-VioStartCheck CheckStart(const VioReport& report, const VioStartBounds& bounds) {
-  VioStartCheck c;
-  if (report.keyframe_chi2.empty()) return c;
-  c.solved = true;
-  c.keyframe = report.keyframe_chi2.front();
-  const VioReport::KeyframeChi2& k = c.keyframe;
-  c.culled_share = k.residuals > 0 ? static_cast<double>(k.culled) / k.residuals : 0.0;
-  c.chi2_over = bounds.max_imu_chi2 > 0.0 && !(k.chi2 <= bounds.max_imu_chi2);
-  c.culled_over = bounds.max_culled_share > 0.0 && !(c.culled_share <= bounds.max_culled_share);
-  return c;
-}
-
-nlohmann::json StartCheckJson(const VioStartCheck& check, const VioStartBounds& bounds) {
-  nlohmann::json j = {{"solved", check.solved},
-                      {"failed", check.failed()},
-                      {"max_start_imu_chi2", bounds.max_imu_chi2},
-                      {"max_start_culled_share", bounds.max_culled_share}};
-  if (!check.solved) return j;
-  j["frame"] = check.keyframe.frame;
-  j["time"] = check.keyframe.time;
-  j["imu_chi2"] = check.keyframe.chi2;
-  j["culled"] = check.keyframe.culled;
-  j["residuals"] = check.keyframe.residuals;
-  j["culled_share"] = check.culled_share;
-  return j;
-}
-
-int WarnStart(const VioStartCheck& check, const VioStartBounds& bounds) {
-  if (!check.failed()) return 0;
-  const VioReport::KeyframeChi2& k = check.keyframe;
-  std::ostringstream w;
-  w << std::fixed << std::setprecision(2)
-    << "plucker vio: warning: the start disagrees with the IMU: the window's first solve after "
-       "it (keyframe frame "
-    << k.frame << ", " << k.time << " s) left its IMU factor chi2 " << std::setprecision(1)
-    << k.chi2;
-  if (check.chi2_over) w << " (over max_start_imu_chi2 " << bounds.max_imu_chi2 << ")";
-  w << " and culled " << k.culled << " of " << k.residuals << " observations as outliers (share "
-    << std::setprecision(4) << check.culled_share;
-  if (check.culled_over) w << ", over max_start_culled_share " << bounds.max_culled_share;
-  w << "): a start on a wrong scale; the trajectory is not trustworthy (exit code " << kExitImuOnly
-    << ")";
-  std::cerr << w.str() << "\n";
-  return kExitImuOnly;
-}
-
 std::vector<int> WriteVioTrajectory(const std::string& path,
                                     const std::vector<odometry::VioFrameRecord>& records,
                                     bool online, std::optional<std::int64_t> clock_origin_ns) {
