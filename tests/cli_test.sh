@@ -542,6 +542,22 @@ expect vio-inconsistent-warns 0 "keyframes where the IMU and the vision disagree
 expect vio-inconsistent-exit-3 0 "rc=3" -- bash -c "'$PLUCKER' vio --features '$T/vcam' \
   --out '$T/vio_c.tum' --config '$T/vio_chi2.yaml' --no-lines --point-stride 2 --quiet 2> /dev/null; echo rc=\$?"
 expect vio-inconsistent-json 0 '"inconsistent_keyframes": [1-9]' -- cat "$T/vio_c.json"
+# The start's test (checks.max_start_imu_chi2, checks.max_start_culled_share): the healthy run
+# above passes; an aggressive corridor (30 Hz, seed 210, 5 s) with the start of before (no
+# rotation keyframes, no start bundle adjustment) aligns on a wrong scale (2.2 m of ATE): its
+# window's first solve fails the test (warning, exit code 3, JSON), silent with the test off.
+expect vio-start-check-healthy 0 '"failed": false' -- bash -c "grep -A10 '\"start_check\"' '$T/vio.json'"
+expect sim-camera-vio-aggressive 0 "" -- "$PLUCKER" sim camera --out "$T/vagg" --scene corridor \
+  --rate 30 --frames 150 --seed 210 --motion aggressive
+printf 'window: {keyframe_max_rotation_deg: 0}\ninit: {ba_iterations: 0, extend_min_rotation_deg: 0, extend_max_seconds: 0, max_keyframes: 30, min_span_s: 0}\n' \
+  > "$T/vio_old_start.yaml"
+expect vio-start-check-warns 0 "the start disagrees with the IMU: .*frame 121.*over max_start_imu_chi2.*rc=3" -- \
+  bash -c "('$PLUCKER' vio --features '$T/vagg' --out '$T/vagg.tum' --json '$T/vagg.json' \
+  --config '$T/vio_old_start.yaml' --quiet 2>&1; echo rc=\$?) | tr '\\n' ' '"
+expect vio-start-check-json 0 '"failed": true' -- bash -c "grep -A10 '\"start_check\"' '$T/vagg.json'"
+printf 'checks: {max_start_imu_chi2: 0, max_start_culled_share: 0}\n' >> "$T/vio_old_start.yaml"
+expect vio-start-check-off 0 "^rc=0$" -- bash -c "'$PLUCKER' vio --features '$T/vagg' \
+  --out '$T/vagg.tum' --config '$T/vio_old_start.yaml' --quiet 2>&1; echo rc=\$?"
 cp -r "$T/vcam" "$T/vgap"
 awk 'NR <= 2 || $1 < 1.02 || $1 > 1.31' "$T/vcam/imu.txt" > "$T/vgap/imu.txt"
 sed -i "s/^counts \([0-9]*\) [0-9]*/counts \1 $(grep -vc '^#' "$T/vgap/imu.txt")/" "$T/vgap/rig.txt"
