@@ -168,6 +168,7 @@ int Run(const VioArgs& a) {
     out["summary"]["largest_keyframe_imu_chi2"] = largest;
     out["summary"]["inconsistent_keyframe_frames"] = frames;
     out["summary"]["start_check"] = StartCheckJson(start, start_bounds);
+    out["summary"]["keyframe_imu_chi2"] = KeyframeChi2StatsJson(report);
     io::WriteFileAtomically(a.json, out.dump(1) + "\n");
   }
   if (!a.quiet) PrintVioSummary(a.out, cfg.odometry.estimate_extrinsic, report, vio, in, duration);

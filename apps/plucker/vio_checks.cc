@@ -1,5 +1,6 @@
 #include "vio_checks.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -52,6 +53,23 @@ int WarnStart(const VioStartCheck& check, const VioStartBounds& bounds) {
     << ")";
   std::cerr << w.str() << "\n";
   return kExitImuOnly;
+}
+
+nlohmann::json KeyframeChi2StatsJson(const VioReport& report) {
+  constexpr double kChi2Dof15Q99 = 30.58;
+  std::vector<double> c;
+  for (const VioReport::KeyframeChi2& k : report.keyframe_chi2) c.push_back(k.chi2);
+  std::sort(c.begin(), c.end());
+  const auto at = [&c](double q) {
+    return c.empty() ? 0.0 : c[std::min(c.size() - 1, static_cast<std::size_t>(q * c.size()))];
+  };
+  const double over = static_cast<double>(
+      std::count_if(c.begin(), c.end(), [](double x) { return x > kChi2Dof15Q99; }));
+  return {{"keyframes", c.size()},
+          {"median", at(0.5)},
+          {"p95", at(0.95)},
+          {"largest", c.empty() ? 0.0 : c.back()},
+          {"share_over_q99", c.empty() ? 0.0 : over / c.size()}};
 }
 
 }  // namespace app

@@ -34,5 +34,10 @@ nlohmann::json StartCheckJson(const VioStartCheck& check, const VioStartBounds& 
 // Its warning (stderr, --quiet or not) when it failed; returns kExitImuOnly then, else 0.
 int WarnStart(const VioStartCheck& check, const VioStartBounds& bounds);
 
+// The distribution of the keyframes' IMU factor chi2 (15 degrees of freedom) for the JSON
+// summary (`keyframe_imu_chi2`): median, p95, largest and the share over the chi2 0.99 quantile
+// (30.58); zeros without keyframes.
+nlohmann::json KeyframeChi2StatsJson(const VioReport& report);
+
 }  // namespace app
 }  // namespace plucker

@@ -59,6 +59,16 @@ TEST(VioStartCheck, NoKeyframeIsNotSolved) {
   EXPECT_FALSE(StartCheckJson(c, kDefaults).contains("frame"));
 }
 
+TEST(VioStartCheck, KeyframeChi2Distribution) {
+  VioReport r;
+  for (int k = 0; k < 20; ++k) r.keyframe_chi2.push_back({k, 0.1 * k, k < 18 ? 1.0 : 100.0});
+  const nlohmann::json j = KeyframeChi2StatsJson(r);
+  EXPECT_EQ(j["median"].get<double>(), 1.0);
+  EXPECT_EQ(j["p95"].get<double>(), 100.0);
+  EXPECT_NEAR(j["share_over_q99"].get<double>(), 0.1, 1e-12);
+  EXPECT_EQ(KeyframeChi2StatsJson(VioReport())["largest"].get<double>(), 0.0);
+}
+
 }  // namespace
 }  // namespace app
 }  // namespace plucker
