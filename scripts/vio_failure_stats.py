@@ -82,9 +82,10 @@ def run_stats(j):
     out["first_visual_chi2"] = seen[0].get("imu_chi2", 0.0) if seen else 0.0
     out["first_chi2"] = first.get("imu_chi2", 0.0)
     out["first_point_rms"] = first.get("point_rms_sigmas", 0.0)
+    out["first_culled"] = first.get("culled_observations", 0)
     out["first_culled_share"] = first.get("culled_observations", 0) / max(1, first.get("residuals", 0))
     later = [f.get("point_rms_sigmas", 0.0) for f in kf[1:]]
-    out["first_rms_over_median"] = out["first_point_rms"] / (statistics.median(later) if later else 1.0)
+    out["first_rms_over_median"] = out["first_point_rms"] / max(1e-9, statistics.median(later) if later else 1.0)
     s = j.get("summary", {})
     out["imu_only_share"] = s.get("imu_only_share", 0.0)
     return out
@@ -116,6 +117,17 @@ def main(argv):
     print("run\tate_m\t" + "\t".join(keys))
     for name, ate, s in rows:
         print("%s\t%.4f\t%s" % (name, ate, "\t".join("%.4g" % s.get(k, float("nan")) for k in keys)))
+    # The start check of `plucker vio` at its defaults (checks.max_start_imu_chi2 25,
+    # checks.max_start_culled_share 0.01 from 10 culled observations on).
+    def flagged(s):
+        culled = s.get("first_culled", 0)
+        return s.get("first_chi2", 0) > 25.0 or (culled >= 10 and s.get("first_culled_share", 0) > 0.01)
+    for label, lo, hi in (("healthy (< 0.2 m)", -1, 0.2), ("0.2-0.5 m", 0.2, 0.5),
+                          ("failed (> 0.5 m)", 0.5, math.inf), ("no ATE", math.nan, math.nan)):
+        g = [(n, s) for n, a, s in rows if (lo <= a < hi if lo == lo else a != a)]
+        if g:
+            f = [n for n, s in g if flagged(s)]
+            print("start check: %s: %d of %d flagged %s" % (label, len(f), len(g), " ".join(f)))
     healthy = [s for _, a, s in rows if a < 0.2]
     failed = [s for _, a, s in rows if a > 0.5]
     print("\n%d healthy (< 0.2 m), %d failed (> 0.5 m)" % (len(healthy), len(failed)))
