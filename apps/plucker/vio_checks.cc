@@ -46,8 +46,8 @@ int WarnStart(const VioStartCheck& check, const VioStartBounds& bounds) {
     << k.frame << ", " << k.time << " s) left its IMU factor chi2 " << std::setprecision(1)
     << k.chi2;
   if (check.chi2_over) w << " (over max_start_imu_chi2 " << bounds.max_imu_chi2 << ")";
-  w << " and culled " << k.culled << " of " << k.residuals << " observations as outliers (share "
-    << std::setprecision(4) << check.culled_share;
+  w << " and culled " << k.culled << " observations as outliers (a share " << std::setprecision(4)
+    << check.culled_share << " of its " << k.residuals << " residual blocks";
   if (check.culled_over) w << ", over max_start_culled_share " << bounds.max_culled_share;
   w << "): a start on a wrong scale; the trajectory is not trustworthy (exit code " << kExitImuOnly
     << ")";

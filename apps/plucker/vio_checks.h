@@ -13,10 +13,8 @@ namespace app {
 // and state under the IMU factors): its newest IMU factor's whitened chi2 and the share of its
 // observations culled as outliers, against their bounds (0: off). A start on a wrong scale (a
 // vision-only run whose scale drifted, absorbed by the accelerometer bias) shows there
-// (docs/results/vio.md, session 22). Not solved before the window's first keyframe.
-// The culled share counts only from this many culled observations on (a share of a few is
-// noise: 1 of 88 in a 4 s room).
-constexpr int kMinStartCulled = 10;
+// (docs/results/vio.md, session 22). Not solved before the window's first keyframe. The share
+// is of the solve's residual blocks (observations, IMU factors, priors).
 struct VioStartBounds {
   double max_imu_chi2 = 0.0, max_culled_share = 0.0;
 };
@@ -27,6 +25,9 @@ struct VioStartCheck {
   bool chi2_over = false, culled_over = false;
   bool failed() const { return chi2_over || culled_over; }
 };
+// The culled share counts only from this many culled observations on (a share of a few is
+// noise: 1 of 88 in a 4 s room).
+constexpr int kMinStartCulled = 10;
 VioStartCheck CheckStart(const VioReport& report, const VioStartBounds& bounds);
 // Its JSON (`start_check` of the summary): solved, failed, the bounds and frame, time,
 // imu_chi2, culled, residuals, culled_share.

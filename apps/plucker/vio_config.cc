@@ -217,8 +217,9 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "factor a larger whitened squared residual: a start on a wrong scale (0: off)",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(max_start_imu_chi2));
   t.Value("checks.max_start_culled_share", "",
-          "exit code 3 when the window's first solve after the start culls more than this share "
-          "of its observations as outliers: a start on a wrong scale (0: off)",
+          "exit code 3 when the window's first solve after the start culls more observations "
+          "as outliers than this share of its residual blocks (from 10 on): a start on a wrong "
+          "scale (0: off)",
           Range{0.0, 1.0}, PLUCKER_OPTION_MEMBER(max_start_culled_share));
   return t.Take();
 }
