@@ -8,8 +8,8 @@
 
 #include "pipeline_json.h"
 #include "plucker/eval/ate.h"
-#include "plucker/eval/statistics.h"
 #include "plucker/eval/plot.h"
+#include "plucker/eval/statistics.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
 

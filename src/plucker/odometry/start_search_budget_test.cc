@@ -26,9 +26,9 @@ VioTestInput Simulate(int num_frames) {
 
 struct SearchRun {
   bool done = false;
-  int decided_at = -1;    // the frame whose Advance decided
-  int most_tests = 0;     // the most two-view RANSACs of one Advance
-  int tests = 0;          // in all
+  int decided_at = -1;  // the frame whose Advance decided
+  int most_tests = 0;   // the most two-view RANSACs of one Advance
+  int tests = 0;        // in all
   VioStart start;
 };
 
@@ -90,6 +90,7 @@ TEST(StartSearchBudget, TheRotatedParallaxRefusesPairsWithoutTheirRansac) {
   const VioTestInput in = Simulate(260);
   VisualInertialOdometryOptions o;
   const SearchRun open = RunSearch(o, in);
+  o.init_pair_budget = 3;
   o.init_pair_min_rotated_parallax_px = 7.5;
   const SearchRun tested = RunSearch(o, in);
   std::printf("RANSACs: %d, with the rotated-parallax test %d (start %d-%d, %d-%d)\n", open.tests,

@@ -209,10 +209,16 @@ Eigen::Matrix3d VisualInertialInitializer::Impl::GyroRotation(
   return R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
 }
 
+// The search is behind when its start frame's last pair (30 frames on) is more than this many
+// frames older than the newest frame (the unbounded search is never behind: it leaves a start
+// frame once that pair is tested); only then does init_pair_min_rotated_parallax_px refuse pairs.
+constexpr int kPairLagFrames = 5;
+
 int VisualInertialInitializer::Impl::NextPair(const std::vector<window::FrameInput>& frames,
                                               const std::vector<sensor::ImuSample>& imu) {
   const Eigen::Matrix3d R_cj_ci = GyroRotation(frames, imu);
-  if (o.init_pair_min_rotated_parallax_px > 0.0 &&
+  const bool behind = static_cast<int>(frames.size()) - 1 - (i + 30) > kPairLagFrames;
+  if (behind && o.init_pair_min_rotated_parallax_px > 0.0 &&
       RotatedParallax(calib.camera.K, frames[i].points, frames[j].points, R_cj_ci) <
           o.init_pair_min_rotated_parallax_px)
     return 0;

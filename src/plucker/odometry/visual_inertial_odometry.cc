@@ -26,8 +26,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(accel_bias_prior_sigma > 0.0) || !(velocity_prior_sigma > 0.0) ||
       !(init_max_rotation_disagreement_deg > 0.0) || !(init_gyro_bias_bound >= 0.0) ||
       init_pair_budget < 0 || !(init_pair_min_rotated_parallax_px >= 0.0) ||
-      !(two_view_min_plane_angle_px >= 0.0) ||
-      !(image_still_span_s >= 0.0) || init_ba_iterations < 0 || init_extend_keyframes < 0 ||
+      !(two_view_min_plane_angle_px >= 0.0) || !(image_still_span_s >= 0.0) ||
+      init_ba_iterations < 0 || init_extend_keyframes < 0 ||
       !(init_extend_min_rotation_deg >= 0.0) || !(init_extend_max_seconds >= 0.0) ||
       !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
       !(keyframe_max_rotation_deg >= 0.0) || !(keyframe_min_turn_rate_deg_s >= 0.0) ||

@@ -632,7 +632,8 @@ TEST(SlidingWindowEstimator, TwoViewLinesNeedThePlaneAngleInPixels) {
         estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]);
     EXPECT_TRUE(init.ok);
     Run r{init.lines, 0};
-    for (std::size_t i = 4; i < in.size(); ++i) r.last_lines = estimator.AddFrame(in[i]).window_lines;
+    for (std::size_t i = 4; i < in.size(); ++i)
+      r.last_lines = estimator.AddFrame(in[i]).window_lines;
     return r;
   };
   // 5 deg at f = 400 is 35.0 px: a smaller bound changes nothing.
@@ -640,9 +641,10 @@ TEST(SlidingWindowEstimator, TwoViewLinesNeedThePlaneAngleInPixels) {
   const double five_deg_px = f * std::tan(5.0 * M_PI / 180.0);
   const Run off = run(0.0), below = run(0.99 * five_deg_px), twice = run(2.0 * five_deg_px),
             all = run(1e6);
-  std::printf("start lines: off %d, below 5 deg %d, 10 deg %d, all refused %d; last window %d / %d\n",
-              off.start_lines, below.start_lines, twice.start_lines, all.start_lines,
-              off.last_lines, all.last_lines);
+  std::printf(
+      "start lines: off %d, below 5 deg %d, 10 deg %d, all refused %d; last window %d / %d\n",
+      off.start_lines, below.start_lines, twice.start_lines, all.start_lines, off.last_lines,
+      all.last_lines);
   EXPECT_GT(off.start_lines, 10);
   EXPECT_EQ(below.start_lines, off.start_lines);
   EXPECT_LT(twice.start_lines, off.start_lines);
