@@ -102,6 +102,8 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.min_line_views));
   t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
           PLUCKER_OPTION_MEMBER(odometry.two_view_line_sigma_scale));
+  t.Value(SharedVisualOption("window.two_view_min_plane_angle_px"),
+          PLUCKER_OPTION_MEMBER(odometry.two_view_min_plane_angle_px));
   t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
          PLUCKER_OPTION_MEMBER(odometry.recheck_two_view_lines));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
@@ -152,6 +154,13 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           Above(0.0), PLUCKER_OPTION_MEMBER(odometry.init_max_rotation_disagreement_deg));
   t.Value("init.gyro_bias_bound", "rad/s", "the largest gyro bias expected before it is known",
           AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_gyro_bias_bound));
+  t.Value("init.pair_budget", "pairs",
+          "dynamic start: two-view RANSACs a frame of its search, the rest wait (0: no bound)",
+          AtLeast(0), PLUCKER_OPTION_MEMBER(odometry.init_pair_budget));
+  t.Value("init.pair_min_rotated_parallax_px", "px",
+          "dynamic start: a pair's median point motion after the gyroscope's rotation needed "
+          "before its RANSAC (0: not tested)",
+          AtLeast(0.0), PLUCKER_OPTION_MEMBER(odometry.init_pair_min_rotated_parallax_px));
   t.Value("init.image_still_px", "px",
           "median point motion above which a frame moves (vetoes the static start)", AtLeast(0.0),
           PLUCKER_OPTION_MEMBER(odometry.image_still_px));

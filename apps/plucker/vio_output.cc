@@ -9,6 +9,7 @@
 #include "pipeline_json.h"
 #include "plucker/eval/ate.h"
 #include "plucker/eval/plot.h"
+#include "plucker/eval/statistics.h"
 #include "plucker/io/io_error.h"
 #include "plucker/io/trajectory_io.h"
 
@@ -48,6 +49,18 @@ nlohmann::json EventJson(const odometry::VioInitEvent& e) {
   return j;
 }
 
+// Each call's odometry CPU time (a call per frame, the last one at the end of the input):
+// median, p95, max and the call with the max.
+nlohmann::json CallCpuJson(const std::vector<double>& ms) {
+  if (ms.empty()) return nlohmann::json::object();
+  const auto most = std::max_element(ms.begin(), ms.end());
+  return {{"calls", ms.size()},
+          {"median", eval::Percentile(ms, 0.5)},
+          {"p95", eval::Percentile(ms, 0.95)},
+          {"max", *most},
+          {"max_call", most - ms.begin()}};
+}
+
 }  // namespace
 
 void VioReport::AddFrontend(int frame, nlohmann::json info) {
@@ -62,6 +75,7 @@ void VioReport::Add(const odometry::VioFrameResult& r,
   cpu_ms += cpu_ms_call;
   frontend_ms += frontend_ms_call;
   const double odometry_ms = cpu_ms_call - frontend_ms_call;
+  call_ms_.push_back(odometry_ms);
   const bool own = r.settled.size() == 1 && r.window;  // the window ran this frame alone
   if (own) {
     frame_ms += odometry_ms;
@@ -191,6 +205,7 @@ nlohmann::json VioReport::Json(const VioInput& in, const odometry::VisualInertia
   out["summary"]["imu_only_stretches"] = stretches;
   // Kalibr's convention: t_imu = t_cam + offset (IMU stamps 8 ms late read +0.008).
   out["summary"]["camera_imu_time_offset_s"] = vio.TimeOffsetEstimate();
+  out["odometry_call_cpu_ms"] = CallCpuJson(call_ms_);
   return out;
 }
 

@@ -50,6 +50,7 @@ class VioReport {
   double chi2_total_ = 0.0;
   std::array<double, window::kNumWindowStages> stage_total_{};
   std::vector<nlohmann::json> frontend_;
+  std::vector<double> call_ms_;  // each call's odometry CPU (without the front end), in order
 };
 
 // The run's summary on stderr (frames, start, keyframes, CPU against the data's duration; the

@@ -19,6 +19,9 @@ const std::vector<OptionSpec>& SharedSpecs() {
       {"window.min_line_views", "keyframes", "keyframes observing a new line", Between(2, 1000)},
       {"window.two_view_line_sigma_scale", "",
        "line sigma times this while two views only see the line (1: off)", AtLeast(1.0)},
+      {"window.two_view_min_plane_angle_px", "px",
+       "a line from two views: its planes' angle at least this many pixels' angles (0: off)",
+       AtLeast(0.0)},
       {"points.max_tracks", "", "live point tracks kept (images)", AtLeast(1)},
       {"points.min_distance_px", "px", "between point tracks (images)", AtLeast(0.0)},
       {"points.detect_below_share", "",
@@ -88,6 +91,8 @@ std::vector<OptionRow<VoConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(window.min_line_views));
   t.Value(SharedVisualOption("window.two_view_line_sigma_scale"),
           PLUCKER_OPTION_MEMBER(window.two_view_line_sigma_scale));
+  t.Value(SharedVisualOption("window.two_view_min_plane_angle_px"),
+          PLUCKER_OPTION_MEMBER(window.two_view_min_plane_angle_px));
   t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
          PLUCKER_OPTION_MEMBER(window.recheck_two_view_lines));
   t.Value("window.max_new_line_rms_px", "px",

@@ -34,6 +34,29 @@ bool MotionFound(const inertial::StaticInitResult& r, double block_seconds) {
   return r.blocks_still == 0 || used == r.blocks_still - 1;
 }
 
+// The pair's parallax before any RANSAC: the upper median, over the point tracks common to a and
+// b, of the pixel distance between b's observation and a's ray turned into b by R_b_a (the
+// gyroscope's rotation); 0 with fewer than 5 common tracks.
+double RotatedParallax(const PinholeIntrinsics& K, const std::vector<sensor::PointObservation>& a,
+                       const std::vector<sensor::PointObservation>& b,
+                       const Eigen::Matrix3d& R_b_a) {
+  std::map<int, Eigen::Vector2d> uv_a;
+  for (const auto& p : a)
+    if (p.point_id >= 0 && p.uv.allFinite()) uv_a[p.point_id] = p.uv;
+  std::vector<double> d;
+  for (const auto& p : b) {
+    const auto it = uv_a.find(p.point_id);
+    if (p.point_id < 0 || it == uv_a.end() || !p.uv.allFinite()) continue;
+    const Eigen::Vector3d ray =
+        R_b_a * Eigen::Vector3d((it->second.x() - K.cx) / K.fx, (it->second.y() - K.cy) / K.fy, 1);
+    if (ray.z() <= 1e-9) continue;
+    const Eigen::Vector2d uv(K.fx * ray.x() / ray.z() + K.cx, K.fy * ray.y() / ray.z() + K.cy);
+    d.push_back((uv - p.uv).norm());
+  }
+  if (d.size() < 5) return 0.0;
+  return UpperMedian(std::move(d));
+}
+
 }  // namespace
 
 std::optional<inertial::ImageMotionFlag> ImageMotion(const window::FrameInput& previous_frame,
@@ -71,6 +94,10 @@ struct VisualInertialInitializer::Impl {
   double turned_deg = 0.0;
 
   double imu_gap_s = 0.0;  // the window's (WindowOptions(o, calib).inertial->imu_gap_s)
+  // init_pair_budget: the two-view tests this Advance may still run (-1: no bound), and the
+  // tests run so far.
+  int budget = -1;
+  int two_view_tests = 0;
 
   // The preintegration at zero bias, gaps bridged as the window bridges them.
   ImuPreintegration Preintegrate(const std::vector<sensor::ImuSample>& imu, double t0,
@@ -92,8 +119,15 @@ struct VisualInertialInitializer::Impl {
                    const inertial::StaticInitResult& still);
   bool Dynamic(const std::vector<window::FrameInput>& frames,
                const std::vector<sensor::ImuSample>& imu, bool end);
-  bool TryPair(const std::vector<window::FrameInput>& frames,
+  // The rotation of camera i in camera j from the gyroscope at zero bias.
+  Eigen::Matrix3d GyroRotation(const std::vector<window::FrameInput>& frames,
+                               const std::vector<sensor::ImuSample>& imu) const;
+  // 0: the pair (i, j) is refused without its RANSAC, 1: tried (a run started from it or not),
+  // -1: the budget of this frame is spent (the pair waits for the next frame).
+  int NextPair(const std::vector<window::FrameInput>& frames,
                const std::vector<sensor::ImuSample>& imu);
+  bool TryPair(const std::vector<window::FrameInput>& frames,
+               const std::vector<sensor::ImuSample>& imu, const Eigen::Matrix3d& R_cj_ci);
   // false: no start yet; *hopeless: the run's poses disagree with the IMU (more keyframes of
   // the same run will not mend them: restart).
   bool TryAlignment(const std::vector<window::FrameInput>& frames,
@@ -167,13 +201,38 @@ bool VisualInertialInitializer::Impl::StartStatic(const std::vector<window::Fram
   return true;
 }
 
+Eigen::Matrix3d VisualInertialInitializer::Impl::GyroRotation(
+    const std::vector<window::FrameInput>& frames,
+    const std::vector<sensor::ImuSample>& imu) const {
+  const Eigen::Matrix3d R_bi_bj = Preintegrate(imu, frames[i].time, frames[j].time).DeltaR();
+  const Eigen::Matrix3d R_b_c = calib.T_b_c.RotationMatrix();
+  return R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
+}
+
+// The search is behind when its start frame's last pair (30 frames on) is more than this many
+// frames older than the newest frame (the unbounded search is never behind: it leaves a start
+// frame once that pair is tested); only then does init_pair_min_rotated_parallax_px refuse pairs.
+constexpr int kPairLagFrames = 5;
+
+int VisualInertialInitializer::Impl::NextPair(const std::vector<window::FrameInput>& frames,
+                                              const std::vector<sensor::ImuSample>& imu) {
+  const Eigen::Matrix3d R_cj_ci = GyroRotation(frames, imu);
+  const bool behind = static_cast<int>(frames.size()) - 1 - (i + 30) > kPairLagFrames;
+  if (behind && o.init_pair_min_rotated_parallax_px > 0.0 &&
+      RotatedParallax(calib.camera.K, frames[i].points, frames[j].points, R_cj_ci) <
+          o.init_pair_min_rotated_parallax_px)
+    return 0;
+  if (budget == 0) return -1;
+  if (budget > 0) --budget;
+  ++two_view_tests;
+  return TryPair(frames, imu, R_cj_ci) ? 1 : 0;
+}
+
 // A two-view start (i, j) checked against the gyroscope, and the vision-only run from it.
 bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInput>& frames,
-                                              const std::vector<sensor::ImuSample>& imu) {
+                                              const std::vector<sensor::ImuSample>& imu,
+                                              const Eigen::Matrix3d& R_cj_ci) {
   const double ti = frames[i].time, tj = frames[j].time;
-  const Eigen::Matrix3d R_bi_bj = Preintegrate(imu, ti, tj).DeltaR();
-  const Eigen::Matrix3d R_b_c = calib.T_b_c.RotationMatrix();
-  const Eigen::Matrix3d R_cj_ci = R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
   window::TwoViewOptions two_view;
   two_view.max_rotation_disagreement_deg =
       o.init_max_rotation_disagreement_deg + o.init_gyro_bias_bound * (tj - ti) * 180.0 / M_PI;
@@ -357,8 +416,10 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
       if (!pair_possible || j >= n || !Covered(imu, frames[j].time)) {
         ++i;
         j = i + 1;
-      } else if (!TryPair(frames, imu)) {
-        ++j;
+      } else {
+        const int tried = NextPair(frames, imu);
+        if (tried < 0) return false;  // the budget is spent: the pair waits for the next frame
+        if (tried == 0) ++j;
       }
       continue;
     }
@@ -424,6 +485,7 @@ bool VisualInertialInitializer::Advance(const std::vector<window::FrameInput>& f
   if (m.phase == Impl::Phase::kFailed || frames.empty()) return false;
   if (m.phase == Impl::Phase::kStaticTest && m.StaticTest(frames, imu, flags, end_of_input))
     return true;
+  m.budget = m.o.init_pair_budget > 0 && !end_of_input ? m.o.init_pair_budget : -1;
   if (m.phase == Impl::Phase::kDynamic) return m.Dynamic(frames, imu, end_of_input);
   return false;
 }
@@ -431,6 +493,7 @@ bool VisualInertialInitializer::Advance(const std::vector<window::FrameInput>& f
 bool VisualInertialInitializer::failed() const { return impl_->phase == Impl::Phase::kFailed; }
 const VioStart& VisualInertialInitializer::start() const { return impl_->start; }
 const std::vector<VioInitEvent>& VisualInertialInitializer::events() const { return impl_->events; }
+int VisualInertialInitializer::two_view_tests() const { return impl_->two_view_tests; }
 
 }  // namespace odometry
 }  // namespace plucker

@@ -9,7 +9,11 @@
 //      plus init_gyro_bias_bound times their time apart), a vision-only window run on, and at
 //      each keyframe from init_min_keyframes on the initialisation choice and AlignVisualInertial
 //      (scale, gravity, velocities, gyro bias); a run that fails or reaches init_max_keyframes
-//      restarts from a later start frame.
+//      restarts from a later start frame. The pairs are tried in that order; at most
+//      init_pair_budget RANSACs run a frame (the rest wait for the next frames, in order; at the
+//      end of the input the search runs out), and while the search is behind a pair whose
+//      rotated parallax (RotatedParallax in the .cc) is under init_pair_min_rotated_parallax_px
+//      is refused without its RANSAC.
 // A decision at frame k uses only the inputs up to frame k: fed one frame at a time it takes the
 // decision a run over the whole sequence would take, at the frame where that run's data ends.
 // No I/O, no printing, no timing.
@@ -54,6 +58,8 @@ class VisualInertialInitializer {
   bool failed() const;
   const VioStart& start() const;
   const std::vector<VioInitEvent>& events() const;
+  // The two-view RANSACs of the dynamic search so far (init_pair_budget bounds them a frame).
+  int two_view_tests() const;
 
  private:
   struct Impl;

@@ -25,7 +25,9 @@ std::string VisualInertialOdometryOptions::Problem() const {
       !(max_imu_factor_span_s > 0.0) || !(gyro_bias_prior_sigma > 0.0) ||
       !(accel_bias_prior_sigma > 0.0) || !(velocity_prior_sigma > 0.0) ||
       !(init_max_rotation_disagreement_deg > 0.0) || !(init_gyro_bias_bound >= 0.0) ||
-      !(image_still_span_s >= 0.0) || init_ba_iterations < 0 || init_extend_keyframes < 0 ||
+      init_pair_budget < 0 || !(init_pair_min_rotated_parallax_px >= 0.0) ||
+      !(two_view_min_plane_angle_px >= 0.0) || !(image_still_span_s >= 0.0) ||
+      init_ba_iterations < 0 || init_extend_keyframes < 0 ||
       !(init_extend_min_rotation_deg >= 0.0) || !(init_extend_max_seconds >= 0.0) ||
       !(init_ba_accel_bias_prior_sigma > 0.0) || !(init_ba_velocity_prior_sigma > 0.0) ||
       !(keyframe_max_rotation_deg >= 0.0) || !(keyframe_min_turn_rate_deg_s >= 0.0) ||
@@ -42,7 +44,9 @@ std::string VisualInertialOdometryOptions::Problem() const {
            "init_min_keyframes >= 4, "
            "init_max_keyframes >= init_min_keyframes, sigmas and intervals > 0, "
            "tracking_velocity_sigma >= 0, "
-           "init_ba_iterations >= 0, point_min_distance_px >= 0, 0 < point_detect_below_share "
+           "init_ba_iterations >= 0, init_pair_budget >= 0, two_view_min_plane_angle_px >= 0, "
+           "init_pair_min_rotated_parallax_px >= 0, point_min_distance_px >= 0, "
+           "0 < point_detect_below_share "
            "<= 1, 0 < line_detection_scale <= 1, line_flow_samples in "
            "[0, 1000], init_accel_bias and init_gyro_bias finite)";
   }
@@ -116,6 +120,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.min_line_views = c.min_line_views;
   o.two_view_line_sigma_scale = c.two_view_line_sigma_scale;
   o.recheck_two_view_lines = c.recheck_two_view_lines;
+  o.two_view_min_plane_angle_px = c.two_view_min_plane_angle_px;
   o.point_sigma_px = o.line_sigma_px = std::max(calib.pixel_sigma, 0.5);
   window::InertialOptions inertial;
   inertial.T_b_c = calib.T_b_c;

@@ -81,7 +81,8 @@ struct VisualInertialOdometryOptions {
   // window::SlidingWindowOptions::two_view_line_sigma_scale: a two-view line's observations
   // weighed down (sigma x this) until a third keyframe sees it (1: off).
   double two_view_line_sigma_scale = 1.0;
-  bool recheck_two_view_lines = false;  // window::SlidingWindowOptions::recheck_two_view_lines
+  bool recheck_two_view_lines = false;       // window::SlidingWindowOptions::recheck_two_view_lines
+  double two_view_min_plane_angle_px = 0.0;  // window::SlidingWindowOptions::, the same (0: off)
   double max_imu_factor_span_s = 1.0;
   double gyro_bias_prior_sigma = 0.01;
   double accel_bias_prior_sigma = 0.1;
@@ -120,6 +121,16 @@ struct VisualInertialOdometryOptions {
   // within this angle plus init_gyro_bias_bound times the time between the two frames.
   double init_max_rotation_disagreement_deg = 1.0;
   double init_gyro_bias_bound = 0.1;  // rad/s, the largest gyro bias expected before it is known
+  // The dynamic start's search tests at most this many pairs (two-view RANSACs) a frame (0: no
+  // bound); the rest wait, in order, for the next frames: the start is the unbounded search's,
+  // decided some frames later when the budget binds. While the search runs more than 5 frames
+  // behind, a pair needs a rotated parallax (the upper median, over the common point tracks, of
+  // the pixel distance between the second frame's observation and the first's ray turned by the
+  // gyroscope at zero bias) of at least init_pair_min_rotated_parallax_px before its RANSAC (0:
+  // not tested): the cheap test that lets a search that cannot pass the two-view parallax test
+  // (15 px) catch up. (Not always: a bas-relief pair of the pinhole corridor passed at 3.4 px.)
+  int init_pair_budget = 0;
+  double init_pair_min_rotated_parallax_px = 0.0;  // px
   // The visual-inertial bundle adjustment of the dynamic start over all the alignment's
   // keyframes (visual_inertial_start_ba.h): its iteration budget (default 20; 0: off, the window
   // starts on the aligned states) and its priors on the first keyframe's accelerometer bias (m/s^2,

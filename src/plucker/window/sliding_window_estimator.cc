@@ -41,6 +41,9 @@ SlidingWindowEstimator::SlidingWindowEstimator(const PinholeIntrinsics& K,
   if (!(options.two_view_line_sigma_scale >= 1.0) ||
       !std::isfinite(options.two_view_line_sigma_scale))
     throw std::invalid_argument("SlidingWindowEstimator: two_view_line_sigma_scale < 1");
+  if (!(options.two_view_min_plane_angle_px >= 0.0) ||
+      !std::isfinite(options.two_view_min_plane_angle_px))
+    throw std::invalid_argument("SlidingWindowEstimator: two_view_min_plane_angle_px < 0");
   impl_->K = K;
   impl_->opt = options;
   impl_->loss = factors::MakeLossFunction(options.loss, options.loss_scale);

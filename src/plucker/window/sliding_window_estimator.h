@@ -293,6 +293,13 @@ struct SlidingWindowOptions {
   // kept as it is, the default). The window then holds the lines min_line_views 3 would make,
   // and the two-view lines meanwhile (tracking).
   bool recheck_two_view_lines = false;
+  // A line made from two views also needs the largest angle between its back-projected planes to
+  // be at least this many pixels' angles (atan(px / f), f the mean focal length; 0: off, the
+  // default): an exactly determined line's depth error grows as the pixel's angle over the
+  // plane angle, so the test asks the same conditioning of every camera (the 5 deg of
+  // line_triangulation are 35 px at f = 400, 17 px on the fisheye's view at f = 189). A line
+  // refused here is tried again, with the 5 deg, once a third keyframe sees it.
+  double two_view_min_plane_angle_px = 0.0;
   MarginalizationOptions marginalization;
   std::optional<InertialOptions> inertial;  // set: visual-inertial mode
   // Stereo mode (docs/vo.md, "Stereo"): the second camera (same K) at T_c0_c1 in the frame of

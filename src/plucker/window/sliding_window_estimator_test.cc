@@ -616,6 +616,45 @@ TEST(SlidingWindowEstimator, TwoViewLinesAreWeighedDownUntilAThirdView) {
   EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
 }
 
+// two_view_min_plane_angle_px: the start's lines (two views each) need that many pixels' angles
+// between their planes; the lines it refuses come in once a third keyframe sees them (5 deg).
+TEST(SlidingWindowEstimator, TwoViewLinesNeedThePlaneAngleInPixels) {
+  const sim::CameraSimulation s = Simulate(sim::SceneKind::kRoom, 16, 1);
+  const std::vector<FrameInput> in = Inputs(s, 1);
+  struct Run {
+    int start_lines = 0, last_lines = 0;
+  };
+  const auto run = [&](double px) {
+    SlidingWindowOptions options;
+    options.two_view_min_plane_angle_px = px;
+    SlidingWindowEstimator estimator(s.rig.K, options);
+    const InitializationResult init =
+        estimator.Initialize(in[0], s.T_w_c_gt[0], in[3], s.T_w_c_gt[3]);
+    EXPECT_TRUE(init.ok);
+    Run r{init.lines, 0};
+    for (std::size_t i = 4; i < in.size(); ++i)
+      r.last_lines = estimator.AddFrame(in[i]).window_lines;
+    return r;
+  };
+  // 5 deg at f = 400 is 35.0 px: a smaller bound changes nothing.
+  const double f = 0.5 * (s.rig.K.fx + s.rig.K.fy);
+  const double five_deg_px = f * std::tan(5.0 * M_PI / 180.0);
+  const Run off = run(0.0), below = run(0.99 * five_deg_px), twice = run(2.0 * five_deg_px),
+            all = run(1e6);
+  std::printf(
+      "start lines: off %d, below 5 deg %d, 10 deg %d, all refused %d; last window %d / %d\n",
+      off.start_lines, below.start_lines, twice.start_lines, all.start_lines, off.last_lines,
+      all.last_lines);
+  EXPECT_GE(off.start_lines, 1);
+  EXPECT_EQ(below.start_lines, off.start_lines);
+  EXPECT_LE(twice.start_lines, off.start_lines);
+  EXPECT_EQ(all.start_lines, 0);
+  EXPECT_GT(all.last_lines, 10);  // made from three views and more
+  SlidingWindowOptions bad;
+  bad.two_view_min_plane_angle_px = -1.0;
+  EXPECT_THROW(SlidingWindowEstimator(s.rig.K, bad), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace window
 }  // namespace plucker

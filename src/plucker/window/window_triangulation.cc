@@ -107,7 +107,13 @@ std::unique_ptr<LineLandmark> SlidingWindowEstimator::Impl::NewLine(
   const std::vector<LineObservation> views = LineViews(id);
   if (views.size() < static_cast<std::size_t>(std::max(min_views, 2))) return nullptr;
   ++st.line_candidates;
-  const LineTriangulationResult t = TriangulateLine(K, views, opt.line_triangulation);
+  LineTriangulationOptions to = opt.line_triangulation;
+  if (views.size() == 2 && opt.two_view_min_plane_angle_px > 0.0) {
+    const double pixel_angle_deg =
+        std::atan(opt.two_view_min_plane_angle_px / (0.5 * (K.fx + K.fy))) * 180.0 / M_PI;
+    to.min_plane_angle_deg = std::max(to.min_plane_angle_deg, pixel_angle_deg);
+  }
+  const LineTriangulationResult t = TriangulateLine(K, views, to);
   if (t.status == LineTriangulationStatus::kSmallParallax) ++st.line_small_parallax;
   const bool ill = t.status == LineTriangulationStatus::kIllConditioned ||
                    (t.ok() && t.sigma_ratio > opt.max_line_sigma_ratio);
