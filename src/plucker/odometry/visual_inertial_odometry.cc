@@ -120,6 +120,7 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.recheck_two_view_lines = c.recheck_two_view_lines;
   o.point_sigma_px = o.line_sigma_px = std::max(calib.pixel_sigma, 0.5);
   o.line_sigma_px *= c.line_sigma_scale;
+  o.keep_marginalized_lines = c.keep_marginalized_lines;
   window::InertialOptions inertial;
   inertial.T_b_c = calib.T_b_c;
   inertial.imu = calib.imu;

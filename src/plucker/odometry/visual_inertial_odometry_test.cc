@@ -321,7 +321,8 @@ TEST(VisualInertialOdometry, RejectsInvalidOptionsAndInputs) {
 }
 
 // line_sigma_scale: the window's (and so the start's) line sigma is the pixel sigma times it, the
-// point sigma stays; not positive or not finite is refused.
+// point sigma stays; not positive or not finite is refused. keep_marginalized_lines reaches the
+// window.
 TEST(VisualInertialOdometry, LineSigmaScaleWeighsTheLinesOnly) {
   VisualInertialOdometryOptions o;
   VisualInertialCalibration calib;
@@ -331,6 +332,9 @@ TEST(VisualInertialOdometry, LineSigmaScaleWeighsTheLinesOnly) {
   const window::SlidingWindowOptions w = WindowOptions(o, calib);
   EXPECT_DOUBLE_EQ(w.point_sigma_px, 1.5);
   EXPECT_DOUBLE_EQ(w.line_sigma_px, 0.9);
+  EXPECT_TRUE(w.keep_marginalized_lines);
+  o.keep_marginalized_lines = false;
+  EXPECT_FALSE(WindowOptions(o, calib).keep_marginalized_lines);
   EXPECT_TRUE(o.Problem().empty());
   for (const double bad : {0.0, -1.0, std::numeric_limits<double>::infinity()}) {
     o.line_sigma_scale = bad;
