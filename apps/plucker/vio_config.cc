@@ -108,8 +108,7 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           "the line endpoint sigma: the pixel sigma times this (1: as the points)", Above(0.0),
           PLUCKER_OPTION_MEMBER(odometry.line_sigma_scale));
   t.Bool("window.keep_marginalized_lines",
-         "the marginalized keyframe's line observations go into the prior (false: dropped, as "
-         "PL-VIO)",
+         "keep k0's line information in the prior (false: dropped, as PL-VIO)",
          PLUCKER_OPTION_MEMBER(odometry.keep_marginalized_lines));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
