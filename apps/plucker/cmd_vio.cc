@@ -29,13 +29,14 @@
 #include "vio_input.h"
 #include "vio_output.h"
 #include "vio_stream.h"
+#include "vio_tracks.h"
 
 namespace plucker {
 namespace app {
 namespace {
 
 struct VioArgs {
-  std::string features, euroc, out, out_online, json, plot, draw, config;
+  std::string features, euroc, out, out_online, json, plot, draw, tracks, config;
   VioBagSource bag;
   CameraFlags camera;
   bool no_lines = false, quiet = false, estimate_extrinsic = false, estimate_time_offset = false;
@@ -102,7 +103,7 @@ int Run(const VioArgs& a) {
   const VioConfig& cfg = a.cfg;
   std::vector<std::string> inputs = CameraFlagFiles(a.camera);
   inputs.insert(inputs.end(), {a.bag.bag, a.config});
-  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot, a.draw});
+  RefuseOverwritingInputs(inputs, {a.out, a.out_online, a.json, a.plot, a.draw, a.tracks});
   VioInput in;
   const std::unique_ptr<VioStream> stream =
       OpenVioInput(a.features, a.euroc, a.bag, a.camera, cfg.point_stride, &in);
@@ -114,6 +115,8 @@ int Run(const VioArgs& a) {
   odometry::VisualInertialOdometry vio(cfg.odometry, in.calibration);
   std::unique_ptr<VioOverlayWriter> draw;
   if (!a.draw.empty()) draw = std::make_unique<VioOverlayWriter>(a.draw, &vio);
+  std::unique_ptr<VioTrackWriter> tracks;
+  if (!a.tracks.empty()) tracks = std::make_unique<VioTrackWriter>(&vio);
   VioReport report;
   report.extrinsic_estimated = cfg.odometry.estimate_extrinsic;
   std::vector<odometry::VioFrameRecord> online;
@@ -148,6 +151,7 @@ int Run(const VioArgs& a) {
   WriteVioTrajectory(a.out, refined, false, in.clock_origin_ns);
   if (!a.out_online.empty()) WriteVioTrajectory(a.out_online, online, true, in.clock_origin_ns);
   if (!a.plot.empty()) WriteVioPlot(a.plot, in, refined, online);
+  if (tracks) tracks->Write(a.tracks, in.clock_origin_ns);
   const double duration = refined.back().time - refined.front().time;
   const std::vector<VioReport::KeyframeChi2> inconsistent =
       InconsistentKeyframes(report, cfg.max_keyframe_imu_chi2);
@@ -214,6 +218,10 @@ void RegisterVio(CLI::App& app, int* exit_code) {
   cmd->add_option("--draw", args->draw,
                   "Folder: one PNG per frame with a pose, tracked points and line segments over "
                   "the undistorted image (the palette of `plucker vo --draw`; --euroc or --bag)");
+  cmd->add_option("--tracks", args->tracks,
+                  "Folder: the window's input tracks of every frame with a pose, undistorted "
+                  "(points.txt, segments.txt as the simulator's rows, window_lines.txt, "
+                  "frames.txt; not with --draw)");
   cmd->add_option("--config", args->config,
                   "YAML options (`plucker config vio` prints them all with their ranges; "
                   "docs/vio.md); a flag given on the command line overrides its key")
@@ -248,6 +256,8 @@ void RegisterVio(CLI::App& app, int* exit_code) {
       CheckVioSources(args->features, args->euroc, args->bag, args->camera);
       if (!args->features.empty() && !args->draw.empty())
         throw std::invalid_argument("--draw needs images (--euroc or --bag)");
+      if (!args->draw.empty() && !args->tracks.empty())
+        throw std::invalid_argument("--tracks and --draw cannot be given together");
       // The configuration file, then what the command line gives explicitly.
       if (!args->config.empty()) ApplyVioConfig(args->config, &args->cfg);
       ApplyOptionFlags(VioOptions(), flags, &args->cfg);

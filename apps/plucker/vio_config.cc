@@ -106,6 +106,12 @@ std::vector<OptionRow<VioConfig>> MakeRows() {
           PLUCKER_OPTION_MEMBER(odometry.two_view_min_plane_angle_px));
   t.Bool("window.recheck_two_view_lines", kRecheckTwoViewLinesDoc,
          PLUCKER_OPTION_MEMBER(odometry.recheck_two_view_lines));
+  t.Value("window.line_sigma_scale", "",
+          "the line endpoint sigma: the pixel sigma times this (1: as the points)", Above(0.0),
+          PLUCKER_OPTION_MEMBER(odometry.line_sigma_scale));
+  t.Bool("window.keep_marginalized_lines",
+         "keep k0's line information in the prior (false: dropped, as PL-VIO)",
+         PLUCKER_OPTION_MEMBER(odometry.keep_marginalized_lines));
   t.Bool("window.prior_on_poses_only", kPriorOnPosesOnlyDoc,
          PLUCKER_OPTION_MEMBER(odometry.prior_on_poses_only));
   t.Value("inertial.max_imu_factor_span_s", "s",

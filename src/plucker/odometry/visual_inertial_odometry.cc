@@ -20,6 +20,7 @@ const char* const kOnlineTrajectoryNote =
 
 std::string VisualInertialOdometryOptions::Problem() const {
   if (window < 2 || iterations < 1 || min_line_views < 2 || !(two_view_line_sigma_scale >= 1.0) ||
+      !(line_sigma_scale > 0.0) || !std::isfinite(line_sigma_scale) ||
       !(init_two_view_line_sigma_scale == 0.0 || init_two_view_line_sigma_scale >= 1.0) ||
       init_min_keyframes < 4 || init_max_keyframes < init_min_keyframes ||
       !(max_imu_factor_span_s > 0.0) || !(gyro_bias_prior_sigma > 0.0) ||
@@ -40,7 +41,8 @@ std::string VisualInertialOdometryOptions::Problem() const {
       (init_accel_bias && !init_accel_bias->allFinite()) ||
       (init_gyro_bias && !init_gyro_bias->allFinite())) {
     return "an option is out of range (window >= 2, min_line_views >= 2, "
-           "two_view_line_sigma_scale >= 1, init_two_view_line_sigma_scale 0 or >= 1, "
+           "two_view_line_sigma_scale >= 1, line_sigma_scale > 0, "
+           "init_two_view_line_sigma_scale 0 or >= 1, "
            "init_min_keyframes >= 4, "
            "init_max_keyframes >= init_min_keyframes, sigmas and intervals > 0, "
            "tracking_velocity_sigma >= 0, "
@@ -122,6 +124,8 @@ window::SlidingWindowOptions WindowOptions(const VisualInertialOdometryOptions& 
   o.recheck_two_view_lines = c.recheck_two_view_lines;
   o.two_view_min_plane_angle_px = c.two_view_min_plane_angle_px;
   o.point_sigma_px = o.line_sigma_px = std::max(calib.pixel_sigma, 0.5);
+  o.line_sigma_px *= c.line_sigma_scale;
+  o.keep_marginalized_lines = c.keep_marginalized_lines;
   window::InertialOptions inertial;
   inertial.T_b_c = calib.T_b_c;
   inertial.imu = calib.imu;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "plucker/eval/ate.h"
@@ -317,6 +318,28 @@ TEST(VisualInertialOdometry, RejectsInvalidOptionsAndInputs) {
   vio.AddFrame(in.frames[1]);
   EXPECT_THROW(vio.AddFrame(in.frames[0]), std::invalid_argument);
   EXPECT_THROW(vio.AddImage(10.0, cv::Mat()), std::invalid_argument);
+}
+
+// line_sigma_scale: the window's (and so the start's) line sigma is the pixel sigma times it, the
+// point sigma stays; not positive or not finite is refused. keep_marginalized_lines reaches the
+// window.
+TEST(VisualInertialOdometry, LineSigmaScaleWeighsTheLinesOnly) {
+  VisualInertialOdometryOptions o;
+  VisualInertialCalibration calib;
+  calib.pixel_sigma = 1.5;
+  EXPECT_DOUBLE_EQ(WindowOptions(o, calib).line_sigma_px, 1.5);
+  o.line_sigma_scale = 0.6;
+  const window::SlidingWindowOptions w = WindowOptions(o, calib);
+  EXPECT_DOUBLE_EQ(w.point_sigma_px, 1.5);
+  EXPECT_DOUBLE_EQ(w.line_sigma_px, 0.9);
+  EXPECT_TRUE(w.keep_marginalized_lines);
+  o.keep_marginalized_lines = false;
+  EXPECT_FALSE(WindowOptions(o, calib).keep_marginalized_lines);
+  EXPECT_TRUE(o.Problem().empty());
+  for (const double bad : {0.0, -1.0, std::numeric_limits<double>::infinity()}) {
+    o.line_sigma_scale = bad;
+    EXPECT_FALSE(o.Problem().empty()) << bad;
+  }
 }
 
 double AlignmentScale(const VioRun& run) {
