@@ -189,7 +189,7 @@ TEST(OptionsTable, SharedVisualOptionsAreOneOptionInVoAndVio) {
     EXPECT_EQ(i->doc, v.doc) << v.key;
     EXPECT_EQ(i->range, v.range) << v.key;
   }
-  EXPECT_EQ(shared, 17);  // use_lines, 10 window.*, 3 points.*, 3 lines.*
+  EXPECT_EQ(shared, 18);  // use_lines, 11 window.*, 3 points.*, 3 lines.*
 }
 
 TEST(OptionsTable, VioMinLineViewsReachesTheWindow) {
