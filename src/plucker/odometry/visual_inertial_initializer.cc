@@ -126,8 +126,7 @@ struct VisualInertialInitializer::Impl {
   // -1: the budget of this frame is spent (the pair waits for the next frame).
   int NextPair(const std::vector<window::FrameInput>& frames,
                const std::vector<sensor::ImuSample>& imu);
-  bool TryPair(const std::vector<window::FrameInput>& frames,
-               const std::vector<sensor::ImuSample>& imu, const Eigen::Matrix3d& R_cj_ci);
+  bool TryPair(const std::vector<window::FrameInput>& frames, const Eigen::Matrix3d& R_cj_ci);
   // false: no start yet; *hopeless: the run's poses disagree with the IMU (more keyframes of
   // the same run will not mend them: restart).
   bool TryAlignment(const std::vector<window::FrameInput>& frames,
@@ -209,28 +208,31 @@ Eigen::Matrix3d VisualInertialInitializer::Impl::GyroRotation(
   return R_b_c.transpose() * R_bi_bj.transpose() * R_b_c;
 }
 
-// The search is behind when its start frame's last pair (30 frames on) is more than this many
-// frames older than the newest frame (the unbounded search is never behind: it leaves a start
+// A start frame is paired with the frames up to this many frames later.
+constexpr int kPairRangeFrames = 30;
+
+// The search is behind when its start frame's last pair (kPairRangeFrames on) is more than this
+// many frames older than the newest frame (the unbounded search is never behind: it leaves a start
 // frame once that pair is tested); only then does init_pair_min_rotated_parallax_px refuse pairs.
 constexpr int kPairLagFrames = 5;
 
 int VisualInertialInitializer::Impl::NextPair(const std::vector<window::FrameInput>& frames,
                                               const std::vector<sensor::ImuSample>& imu) {
+  const bool behind = static_cast<int>(frames.size()) - 1 - (i + kPairRangeFrames) > kPairLagFrames;
+  const bool parallax_test = behind && o.init_pair_min_rotated_parallax_px > 0.0;
+  if (budget == 0 && !parallax_test) return -1;  // spent: no rotation needed
   const Eigen::Matrix3d R_cj_ci = GyroRotation(frames, imu);
-  const bool behind = static_cast<int>(frames.size()) - 1 - (i + 30) > kPairLagFrames;
-  if (behind && o.init_pair_min_rotated_parallax_px > 0.0 &&
-      RotatedParallax(calib.camera.K, frames[i].points, frames[j].points, R_cj_ci) <
-          o.init_pair_min_rotated_parallax_px)
+  if (parallax_test && RotatedParallax(calib.camera.K, frames[i].points, frames[j].points,
+                                       R_cj_ci) < o.init_pair_min_rotated_parallax_px)
     return 0;
   if (budget == 0) return -1;
   if (budget > 0) --budget;
   ++two_view_tests;
-  return TryPair(frames, imu, R_cj_ci) ? 1 : 0;
+  return TryPair(frames, R_cj_ci) ? 1 : 0;
 }
 
 // A two-view start (i, j) checked against the gyroscope, and the vision-only run from it.
 bool VisualInertialInitializer::Impl::TryPair(const std::vector<window::FrameInput>& frames,
-                                              const std::vector<sensor::ImuSample>& imu,
                                               const Eigen::Matrix3d& R_cj_ci) {
   const double ti = frames[i].time, tj = frames[j].time;
   window::TwoViewOptions two_view;
@@ -410,8 +412,8 @@ bool VisualInertialInitializer::Impl::Dynamic(const std::vector<window::FrameInp
         if (end) phase = Phase::kFailed;
         return false;
       }
-      // The pair (i, j) (j up to 30 frames later), else the next start frame.
-      const bool pair_possible = Covered(imu, frames[i].time) && j <= i + 30;
+      // The pair (i, j) (j up to kPairRangeFrames later), else the next start frame.
+      const bool pair_possible = Covered(imu, frames[i].time) && j <= i + kPairRangeFrames;
       if (pair_possible && j >= n && !end) return false;  // wait for frame j
       if (!pair_possible || j >= n || !Covered(imu, frames[j].time)) {
         ++i;
